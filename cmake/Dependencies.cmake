@@ -1,0 +1,21 @@
+# Every third-party package comes from Debian 12 (scripts/install-deps.sh).
+
+# Trap 1 (docs/building.md): FindOpenVDB.cmake ships in libopenvdb-dev, off CMake's default path.
+find_path(VDBAPPEAR_OPENVDB_MODULE_DIR FindOpenVDB.cmake
+  PATHS /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB /usr/lib/cmake/OpenVDB
+        /usr/local/lib/cmake/OpenVDB /usr/local/lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/OpenVDB
+  NO_DEFAULT_PATH)
+if(NOT VDBAPPEAR_OPENVDB_MODULE_DIR)
+  message(FATAL_ERROR "FindOpenVDB.cmake not found: run scripts/install-deps.sh (libopenvdb-dev)")
+endif()
+list(APPEND CMAKE_MODULE_PATH "${VDBAPPEAR_OPENVDB_MODULE_DIR}")
+
+# Trap 2: FindOpenVDB asks for Boost iostreams (libboost-iostreams-dev).
+find_package(OpenVDB REQUIRED)
+find_package(TBB REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(fmt REQUIRED)
+find_package(Boost 1.74 REQUIRED)   # header-only parts: math (chi-square, quadrature) in tests
+find_package(GTest REQUIRED)

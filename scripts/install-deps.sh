@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages that vdbappear builds and tests with.
+# Idempotent: asks dpkg first and calls apt-get only for what is missing.
+# Usage: scripts/install-deps.sh [--print]   (--print lists the packages and exits)
+set -euo pipefail
+
+packages=(
+  # toolchain, and python3 for the demo and benchmark scripts
+  g++ make cmake ninja-build ccache pkg-config python3
+  # OpenVDB 10 (+ the Boost iostreams its FindOpenVDB asks for: build note 2)
+  libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev
+  # maths, flags, JSON, formatting
+  libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  # tests
+  libgtest-dev
+)
+
+if [[ "${1:-}" == "--print" ]]; then
+  printf '%s\n' "${packages[@]}"
+  exit 0
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$p")
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends -o Dpkg::Use-Pty=0 "${missing[@]}" >/dev/null
