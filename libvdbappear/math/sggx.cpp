@@ -1,0 +1,92 @@
+#include "libvdbappear/math/sggx.h"
+
+#include "libvdbappear/math/frame.h"
+
+#include <Eigen/LU>
+
+#include <cmath>
+
+namespace vdbappear {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+bool isSymmetricPositiveDefinite(const Mat3& S) {
+  if (!S.allFinite() || (S - S.transpose()).cwiseAbs().maxCoeff() > 1e-6 * S.cwiseAbs().maxCoeff()) return false;
+  // Sylvester's criterion on the leading principal minors; exact for 3x3, no tolerance.
+  const double m1 = S(0, 0);
+  const double m2 = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
+  return m1 > 0 && m2 > 0 && S.determinant() > 0;
+}
+
+Sggx::Sggx(const Mat3& S)
+    : S_(S), S_inverse_(S.inverse()), sqrt_det_S_(std::sqrt(S.determinant())) {}
+
+Mat3 sggxMatrix(const Vec3& diag, const Vec3& offdiag) {
+  Mat3 S;
+  S << diag.x(), offdiag.x(), offdiag.y(),  //
+      offdiag.x(), diag.y(), offdiag.z(),   //
+      offdiag.y(), offdiag.z(), diag.z();
+  return S;
+}
+
+Mat3 Sggx::fiberMatrix(const Vec3& t, double roughness) {
+  const Mat3 ttT = t * t.transpose();
+  return (Mat3::Identity() - ttT) + roughness * roughness * ttT;
+}
+
+Mat3 Sggx::surfaceMatrix(const Vec3& n, double roughness) {
+  const Mat3 nnT = n * n.transpose();
+  return nnT + roughness * roughness * (Mat3::Identity() - nnT);
+}
+
+double Sggx::sigma(const Vec3& w) const { return std::sqrt(std::max(0.0, w.dot(S_ * w))); }
+
+double Sggx::D(const Vec3& m) const {
+  const double q = m.dot(S_inverse_ * m);
+  return 1.0 / (kPi * sqrt_det_S_ * q * q);
+}
+
+double Sggx::visibleNormalPdf(const Vec3& wi, const Vec3& m) const {
+  const double cos_theta = wi.dot(m);
+  if (cos_theta <= 0) return 0;
+  return cos_theta * D(m) / sigma(wi);
+}
+
+Vec3 Sggx::sampleVisibleNormal(const Vec3& wi, const Point2& u) const {
+  // A cosine-distributed point (u1, u2, u3) on the hemisphere around wi ...
+  const double r = std::sqrt(u.x());
+  const double phi = 2 * kPi * u.y();
+  const double u1 = r * std::cos(phi), u2 = r * std::sin(phi);
+  const double u3 = std::sqrt(std::max(0.0, 1 - u1 * u1 - u2 * u2));
+
+  // ... mapped through the square root of S expressed in the frame (wk, wj, wi).
+  const Frame frame = Frame::fromNormal(wi);
+  const Vec3 &wk = frame.s, &wj = frame.t;
+  const double S_jj = wj.dot(S_ * wj), S_ii = wi.dot(S_ * wi);
+  const double S_kj = wk.dot(S_ * wj), S_ki = wk.dot(S_ * wi), S_ji = wj.dot(S_ * wi);
+  const double sqrt_det_S_kji = sqrt_det_S_;  // the determinant does not depend on the frame
+  const double inv_sqrt_S_ii = 1 / std::sqrt(S_ii);
+  const double tmp = std::sqrt(std::max(0.0, S_jj * S_ii - S_ji * S_ji));
+  const Vec3 M_k(sqrt_det_S_kji / tmp, 0, 0);
+  const Vec3 M_j(-inv_sqrt_S_ii * (S_ki * S_ji - S_kj * S_ii) / tmp, inv_sqrt_S_ii * tmp, 0);
+  const Vec3 M_i(inv_sqrt_S_ii * S_ki, inv_sqrt_S_ii * S_ji, inv_sqrt_S_ii * S_ii);
+  const Vec3 m_kji = (u1 * M_k + u2 * M_j + u3 * M_i).normalized();
+  return frame.toWorld(m_kji);
+}
+
+double Sggx::phase(const Vec3& wi, const Vec3& wo) const {
+  const Vec3 h = wi + wo;
+  const double length = h.norm();
+  if (length == 0) return 0;
+  return D(h / length) / (4 * sigma(wi));
+}
+
+PhaseSample Sggx::samplePhase(const Vec3& wi, const Point2& u) const {
+  const Vec3 m = sampleVisibleNormal(wi, u);
+  const Vec3 wo = reflect(wi, m).normalized();
+  return {wo, phase(wi, wo), 1.0};
+}
+
+}  // namespace vdbappear
