@@ -1,0 +1,23 @@
+#include "libvdbappear/io/medium.h"
+
+namespace vdbappear {
+
+openvdb::GridCPtrVec Medium::grids() const {
+  openvdb::GridCPtrVec all;
+  for (openvdb::GridBase::ConstPtr grid :
+       {openvdb::GridBase::ConstPtr(density), openvdb::GridBase::ConstPtr(albedo),
+        openvdb::GridBase::ConstPtr(sggx_diag), openvdb::GridBase::ConstPtr(sggx_offdiag),
+        openvdb::GridBase::ConstPtr(hg_g)}) {
+    if (grid) all.push_back(grid);
+  }
+  all.insert(all.end(), other_grids.begin(), other_grids.end());
+  return all;
+}
+
+std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata) {
+  if (auto f = metadata.getMetadata<openvdb::FloatMetadata>(metadata_names::kHgG)) return f->value();
+  if (auto d = metadata.getMetadata<openvdb::DoubleMetadata>(metadata_names::kHgG)) return d->value();
+  return std::nullopt;
+}
+
+}  // namespace vdbappear

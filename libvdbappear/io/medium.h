@@ -1,0 +1,52 @@
+#pragma once
+// A medium in memory: the grids of docs/medium.md, typed. Includes OpenVDB: keep this header out
+// of code that does not touch grids (tools include io/medium_file.h instead).
+
+#include "libvdbappear/io/medium_file.h"
+
+#include <openvdb/openvdb.h>
+
+#include <optional>
+#include <string>
+
+namespace vdbappear {
+
+namespace grid_names {
+inline constexpr const char* kDensity = "density";
+inline constexpr const char* kAlbedo = "albedo";
+inline constexpr const char* kSggxDiag = "sggx_diag";
+inline constexpr const char* kSggxOffdiag = "sggx_offdiag";
+inline constexpr const char* kHgG = "hg_g";
+inline constexpr const char* kCluster = "cluster";
+inline constexpr const char* kPhaseId = "phase_id";
+inline constexpr const char* kPhaseTable = "phase_table";
+}  // namespace grid_names
+
+namespace metadata_names {
+inline constexpr const char* kSchema = "schema";
+inline constexpr const char* kHistory = "history";
+inline constexpr const char* kHgG = "hg_g";
+inline constexpr int kSchemaVersion = 1;
+}  // namespace metadata_names
+
+struct Medium {
+  openvdb::FloatGrid::Ptr density;      // rho, required
+  openvdb::Vec3SGrid::Ptr albedo;       // null: (1,1,1); a FloatGrid on file is read as grey
+  openvdb::Vec3SGrid::Ptr sggx_diag;    // null: S = I
+  openvdb::Vec3SGrid::Ptr sggx_offdiag; // null: zeros
+  openvdb::FloatGrid::Ptr hg_g;         // null: metadata hg_g, else 0
+  openvdb::GridPtrVec other_grids;      // multi-lobe, tabulated phase and unknown grids, as read
+  openvdb::MetaMap metadata;            // file-level metadata: history, schema, ...
+  std::string source;                   // where it was read from, for messages ("stdin", a path)
+
+  bool hasSggx() const { return sggx_diag || sggx_offdiag; }
+  const openvdb::math::Transform& transform() const { return density->transform(); }
+
+  // Every grid, base grids first, in the order they are written.
+  openvdb::GridCPtrVec grids() const;
+};
+
+// The constant HG asymmetry stored as file metadata `hg_g` (float or double), if any.
+std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata);
+
+}  // namespace vdbappear

@@ -1,0 +1,212 @@
+#include "libvdbappear/io/medium_file.h"
+
+#include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/util/error.h"
+#include "libvdbappear/version.h"
+
+#include <openvdb/io/Stream.h>
+#include <openvdb/tools/ValueTransformer.h>
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include <filesystem>
+#include <iostream>
+#include <unistd.h>
+
+namespace vdbappear {
+
+namespace {
+
+constexpr const char* kStdio = "-";
+
+struct VdbContents {
+  openvdb::GridPtrVec grids;
+  openvdb::MetaMap::Ptr metadata;
+};
+
+// Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
+// is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first in
+// the file is reported.
+VdbContents readVdbFile(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
+  if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
+  std::vector<std::string> names;
+  VdbContents contents;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);
+    contents.metadata = file.getMetadata();
+    for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, e.what()));
+  }
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
+      throw MediumError(fmt::format("{}: grid '{}': appears twice", path, names[i]));
+
+  contents.grids.resize(names.size());
+  std::vector<std::exception_ptr> failures(names.size());
+  tbb::parallel_for(std::size_t(0), names.size(), [&](std::size_t i) {
+    try {
+      try {
+        openvdb::io::File file(path);
+        file.open(/*delayLoad=*/false);  // read everything now: a truncated file fails here, not later
+        contents.grids[i] = file.readGrid(names[i]);
+      } catch (const openvdb::Exception& e) {
+        throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], e.what()));
+      }
+      validateGrid(*contents.grids[i], path);
+    } catch (...) {
+      failures[i] = std::current_exception();
+    }
+  });
+  for (const auto& failure : failures)
+    if (failure) std::rethrow_exception(failure);
+  return contents;
+}
+
+VdbContents readVdbStdin() {
+  if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
+  try {
+    openvdb::io::Stream stream(std::cin, /*delayLoad=*/false);
+    return {*stream.getGrids(), stream.getMetadata()};
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("stdin: not a readable VDB stream ({})", e.what()));
+  }
+}
+
+// A grey albedo (FloatGrid) as RGB.
+openvdb::Vec3SGrid::Ptr greyToRgb(const openvdb::FloatGrid& grey) {
+  auto rgb = openvdb::Vec3SGrid::create(openvdb::Vec3s(grey.background()));
+  rgb->setName(grey.getName());
+  rgb->setTransform(grey.transform().copy());
+  rgb->tree().topologyUnion(grey.tree());
+  auto source = grey.getConstAccessor();
+  openvdb::tools::foreach(rgb->beginValueOn(), [source](const openvdb::Vec3SGrid::ValueOnIter& it) {
+    it.setValue(openvdb::Vec3s(source.getValue(it.getCoord())));
+  });
+  return rgb;
+}
+
+template <typename GridT>
+typename GridT::Ptr typedGrid(const openvdb::GridBase::Ptr& grid, const std::string& source) {
+  auto typed = openvdb::gridPtrCast<GridT>(grid);
+  if (!typed)
+    throw MediumError(fmt::format("{}: grid '{}': holds {} values, expected {}", source, grid->getName(),
+                                  grid->valueType(), openvdb::typeNameAsString<typename GridT::ValueType>()));
+  return typed;
+}
+
+template <typename GridPtrT>
+void assignOnce(GridPtrT& slot, GridPtrT grid, const std::string& source) {
+  if (slot) throw MediumError(fmt::format("{}: grid '{}': appears twice", source, grid->getName()));
+  slot = std::move(grid);
+}
+
+MediumPtr toMedium(VdbContents contents, const std::string& source) {
+  namespace names = grid_names;
+  auto medium = std::make_shared<Medium>();
+  medium->source = source;
+  if (contents.metadata) medium->metadata = *contents.metadata;
+  for (auto& grid : contents.grids) {
+    const std::string name = grid->getName();
+    if (name == names::kDensity) {
+      assignOnce(medium->density, typedGrid<openvdb::FloatGrid>(grid, source), source);
+    } else if (name == names::kAlbedo) {
+      auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+      assignOnce(medium->albedo, grey ? greyToRgb(*grey) : typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+    } else if (name == names::kSggxDiag) {
+      assignOnce(medium->sggx_diag, typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+    } else if (name == names::kSggxOffdiag) {
+      assignOnce(medium->sggx_offdiag, typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+    } else if (name == names::kHgG) {
+      assignOnce(medium->hg_g, typedGrid<openvdb::FloatGrid>(grid, source), source);
+    } else {
+      medium->other_grids.push_back(grid);
+    }
+  }
+  return medium;
+}
+
+std::string shellQuote(const std::string& arg) {
+  if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+                                            "@%+=:,./-_") == std::string::npos)
+    return arg;
+  std::string quoted = "'";
+  for (char c : arg) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+}  // namespace
+
+MediumPtr readMedium(const std::string& path) {
+  openvdb::initialize();
+  if (path == kStdio) {
+    VdbContents contents = readVdbStdin();
+    for (const auto& grid : contents.grids) validateGrid(*grid, "stdin");
+    MediumPtr medium = toMedium(std::move(contents), "stdin");
+    validateAcrossGrids(*medium, "stdin");
+    return medium;
+  }
+  MediumPtr medium = toMedium(readVdbFile(path), path);  // validates each grid as it is read
+  validateAcrossGrids(*medium, path);
+  return medium;
+}
+
+void writeMedium(const Medium& medium, const std::string& path, const std::string& history_line) {
+  openvdb::initialize();
+  openvdb::MetaMap metadata = medium.metadata;
+  std::string history;
+  if (auto previous = metadata.getMetadata<openvdb::StringMetadata>(metadata_names::kHistory))
+    history = previous->value() + "\n";
+  metadata.insertMeta(metadata_names::kHistory, openvdb::StringMetadata(history + history_line));
+  metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
+  const openvdb::GridCPtrVec grids = medium.grids();
+
+  if (path == kStdio) {
+    if (isatty(STDOUT_FILENO)) throw MediumError("stdout: is a terminal; redirect or pipe the VDB stream");
+    try {
+      openvdb::io::Stream(std::cout).write(grids, metadata);
+      std::cout.flush();
+    } catch (const std::exception& e) {
+      throw MediumError(fmt::format("stdout: cannot write the VDB stream ({})", e.what()));
+    }
+    if (!std::cout) throw MediumError("stdout: write failed");
+    return;
+  }
+  AtomicFile output(path);
+  try {
+    openvdb::io::File file(output.temporaryPath());
+    file.write(grids, metadata);
+    file.close();
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: cannot write ({})", path, e.what()));
+  }
+  output.commit();
+}
+
+std::string historyLine(const std::string& tool, int argc, const char* const* argv) {
+  std::string line = fmt::format("{} {}:", tool, kVersion);
+  for (int i = 0; i < argc; ++i) line += " " + shellQuote(i == 0 ? tool : argv[i]);
+  return line;
+}
+
+MediumSummary summarize(const Medium& medium) {
+  MediumSummary summary;
+  for (const auto& grid : medium.grids()) {
+    GridSummary g{grid->getName(), grid->valueType(), grid->activeVoxelCount(), grid->memUsage()};
+    summary.memory_bytes += g.memory_bytes;
+    summary.grids.push_back(std::move(g));
+  }
+  summary.active_voxels = medium.density->activeVoxelCount();
+  summary.voxel_size = medium.transform().voxelSize()[0];
+  return summary;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,240 @@
+#include "libvdbappear/io/medium_validate.h"
+
+#include "libvdbappear/io/leaf_values.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/sggx.h"
+#include "libvdbappear/util/error.h"
+
+#include <openvdb/tree/LeafManager.h>
+
+#include <fmt/format.h>
+#include <tbb/parallel_reduce.h>
+
+#include <cfloat>
+#include <cmath>
+#include <optional>
+#include <regex>
+
+namespace vdbappear {
+
+namespace {
+
+using openvdb::Coord;
+
+// Finite without branches (x - x is 0 unless x is NaN or infinite), so loops vectorise.
+bool isFinite(float v) { return v - v == 0.0f; }
+bool isFinite(const openvdb::Vec3s& v) { return (v[0] - v[0] == 0.0f) & (v[1] - v[1] == 0.0f) & (v[2] - v[2] == 0.0f); }
+template <typename T>
+bool isFinite(const T&) { return true; }  // integer grids
+
+// A problem found at a coordinate; the smallest coordinate wins, so reports are deterministic.
+struct Problem {
+  Coord where;
+  bool voxel = true;
+  std::string what;
+};
+
+void keepFirst(std::optional<Problem>& best, std::optional<Problem> candidate) {
+  if (candidate && (!best || candidate->where < best->where)) best = std::move(candidate);
+}
+
+// The first problem that `leaf_check(leaf)` finds over the leaves of `tree`, in parallel.
+// LeafCheck: std::optional<Problem>(const LeafT&), reporting the leaf's first bad voxel.
+template <typename TreeT, typename LeafCheck>
+std::optional<Problem> firstProblemInLeaves(const TreeT& tree, const LeafCheck& leaf_check) {
+  using LeafRange = typename openvdb::tree::LeafManager<const TreeT>::LeafRange;
+  const openvdb::tree::LeafManager<const TreeT> leaves(tree);
+  return tbb::parallel_reduce(
+      leaves.leafRange(), std::optional<Problem>(),
+      [&leaf_check](const LeafRange& range, std::optional<Problem> best) {
+        for (auto leaf = range.begin(); leaf; ++leaf)
+          if (!best || leaf->origin() < best->where) keepFirst(best, leaf_check(*leaf));
+        return best;
+      },
+      [](std::optional<Problem> a, std::optional<Problem> b) {
+        keepFirst(a, std::move(b));
+        return a;
+      });
+}
+
+// A rule on single values: ok(v) says whether v passes (a plain predicate, so a whole leaf buffer
+// is tested in one vectorisable loop); describe(v) says what is wrong with a value that fails.
+template <typename OkT, typename DescribeT>
+struct ValueRule {
+  OkT ok;
+  DescribeT describe;
+};
+template <typename OkT, typename DescribeT>
+ValueRule<OkT, DescribeT> valueRule(OkT ok, DescribeT describe) {
+  return {ok, describe};
+}
+
+// The first active value of `tree` (voxels, then tiles) that breaks `rule`. A leaf whose whole
+// buffer passes is cleared at once; otherwise its active values are scanned for the culprit
+// (inactive values may hold anything).
+template <typename TreeT, typename RuleT>
+std::optional<Problem> firstProblem(const TreeT& tree, const RuleT& rule) {
+  auto leaf_check = [&rule](const typename TreeT::LeafNodeType& leaf) -> std::optional<Problem> {
+    const auto* values = leaf.buffer().data();
+    bool all_ok = true;
+    for (openvdb::Index n = 0; n < TreeT::LeafNodeType::SIZE; ++n) all_ok &= rule.ok(values[n]);
+    if (all_ok) return std::nullopt;
+    for (auto it = leaf.cbeginValueOn(); it; ++it)  // offsets ascend in (x,y,z) order
+      if (!rule.ok(*it)) return Problem{it.getCoord(), true, rule.describe(*it)};
+    return std::nullopt;
+  };
+  std::optional<Problem> first = firstProblemInLeaves(tree, leaf_check);
+  auto tile = tree.cbeginValueOn();
+  tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile)
+    if (!rule.ok(*tile)) keepFirst(first, Problem{tile.getCoord(), false, rule.describe(*tile)});
+  return first;
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& grid, const std::string& what) {
+  throw MediumError(fmt::format("{}: grid '{}': {}", source, grid, what));
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& grid, const Problem& problem) {
+  fail(source, grid,
+       fmt::format("{} at {} ({},{},{})", problem.what, problem.voxel ? "voxel" : "tile", problem.where.x(),
+                   problem.where.y(), problem.where.z()));
+}
+
+// Every active value of `grid` passes `rule`, and its background is finite.
+template <typename GridT, typename RuleT>
+void checkValues(const GridT& grid, const std::string& source, const RuleT& rule) {
+  if (!isFinite(grid.background())) fail(source, grid.getName(), "background is NaN or infinite");
+  if (auto problem = firstProblem(grid.tree(), rule)) fail(source, grid.getName(), *problem);
+}
+
+template <typename GridT>
+void checkFinite(const GridT& grid, const std::string& source) {
+  using ValueT = typename GridT::ValueType;
+  checkValues(grid, source, valueRule([](const ValueT& v) { return isFinite(v); },
+                                      [](const ValueT&) { return std::string("value is NaN or infinite"); }));
+}
+
+void checkDensity(const openvdb::FloatGrid& density, const std::string& source) {
+  if (density.background() != 0.0f)
+    fail(source, density.getName(),
+         fmt::format("background is {}, expected 0 (inactive voxels are empty space)", density.background()));
+  if (density.tree().activeVoxelCount() == 0) fail(source, density.getName(), "empty grid (no active voxels)");
+  checkValues(density, source, valueRule([](float rho) { return rho >= 0 && rho <= FLT_MAX; },
+                                         [](float rho) {
+                                           return std::isfinite(rho) ? fmt::format("negative density {}", rho)
+                                                                     : std::string("density is NaN or infinite");
+                                         }));
+}
+
+bool albedoOk(const openvdb::Vec3s& a) {
+  return (a[0] >= 0) & (a[0] <= 1) & (a[1] >= 0) & (a[1] <= 1) & (a[2] >= 0) & (a[2] <= 1);  // false for NaN
+}
+std::string describeAlbedo(const openvdb::Vec3s& a) {
+  return fmt::format("albedo ({}, {}, {}) outside [0,1]", a[0], a[1], a[2]);
+}
+
+// Value types the contract requires of a grid name, or nullopt for names it does not define.
+std::optional<std::vector<std::string>> requiredValueTypes(const std::string& name) {
+  static const std::regex lobe_vec3("lobe[0-9]+_(diag|offdiag|weight)");
+  static const std::regex lobe_float("lobe[0-9]+_fraction");
+  using Types = std::vector<std::string>;
+  if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
+  if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
+  if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
+  if (name == grid_names::kCluster || name == grid_names::kPhaseId) return Types{"int32"};
+  if (std::regex_match(name, lobe_vec3)) return Types{"vec3s"};
+  if (std::regex_match(name, lobe_float)) return Types{"float"};
+  return std::nullopt;
+}
+
+void checkValueType(const openvdb::GridBase& grid, const std::string& source) {
+  const auto required = requiredValueTypes(grid.getName());
+  if (!required || std::find(required->begin(), required->end(), grid.valueType()) != required->end()) return;
+  fail(source, grid.getName(), fmt::format("holds {} values, expected {}", grid.valueType(), required->front()));
+}
+
+// S is SPD wherever density > 0 (S matters only there; empty voxels may hold anything finite).
+void checkSggxWhereDense(const Medium& medium, const std::string& source) {
+  if (medium.sggx_offdiag && !medium.sggx_diag) fail(source, grid_names::kSggxOffdiag, "present without 'sggx_diag'");
+  if (!medium.sggx_diag) return;
+  const openvdb::FloatTree* density = &medium.density->tree();
+  std::unique_ptr<openvdb::FloatTree> voxelized;  // tiles hide per-voxel S: check every voxel they cover
+  if (density->hasActiveTiles()) {
+    voxelized = std::make_unique<openvdb::FloatTree>(*density);
+    voxelized->voxelizeActiveTiles();
+    density = voxelized.get();
+  }
+  const openvdb::Vec3STree& diag = medium.sggx_diag->tree();
+  const openvdb::Vec3STree* offdiag = medium.sggx_offdiag ? &medium.sggx_offdiag->tree() : nullptr;
+  auto leaf_check = [&diag, offdiag](const openvdb::FloatTree::LeafNodeType& leaf) -> std::optional<Problem> {
+    const LeafValues<openvdb::Vec3STree> d(diag, leaf.origin());
+    const LeafValues<openvdb::Vec3STree> o = offdiag ? LeafValues<openvdb::Vec3STree>(*offdiag, leaf.origin())
+                                                     : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(0.0f));
+    for (auto it = leaf.cbeginValueOn(); it; ++it) {
+      if (*it <= 0) continue;
+      const openvdb::Vec3s dn = d[it.pos()], on = o[it.pos()];
+      if (isPositiveDefinite(Vec3(dn[0], dn[1], dn[2]), Vec3(on[0], on[1], on[2]))) continue;
+      return Problem{it.getCoord(), true,
+                     fmt::format("S (diag {} {} {}, offdiag {} {} {}) is not positive definite where density is {}",
+                                 dn[0], dn[1], dn[2], on[0], on[1], on[2], *it)};
+    }
+    return std::nullopt;
+  };
+  if (auto problem = firstProblemInLeaves(*density, leaf_check)) fail(source, grid_names::kSggxDiag, *problem);
+}
+
+void checkMetadata(const Medium& medium, const std::string& source) {
+  if (auto schema = medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kSchema)) {
+    if (schema->value() > metadata_names::kSchemaVersion)
+      throw MediumError(fmt::format("{}: medium schema {} is newer than this build reads (schema {})", source,
+                                    schema->value(), metadata_names::kSchemaVersion));
+  }
+  if (medium.metadata[metadata_names::kHgG]) {
+    const std::optional<double> g = hgGMetadata(medium.metadata);
+    if (!g) throw MediumError(fmt::format("{}: metadata 'hg_g' is not a number", source));
+    if (!(*g > -1 && *g < 1)) throw MediumError(fmt::format("{}: metadata 'hg_g' = {} outside (-1,1)", source, *g));
+  }
+}
+
+}  // namespace
+
+void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
+  checkValueType(grid, source);
+  const std::string& name = grid.getName();
+  if (name == grid_names::kDensity) {
+    checkDensity(static_cast<const openvdb::FloatGrid&>(grid), source);
+  } else if (name == grid_names::kAlbedo) {
+    if (const auto* rgb = dynamic_cast<const openvdb::Vec3SGrid*>(&grid))
+      checkValues(*rgb, source, valueRule(albedoOk, describeAlbedo));
+    else
+      checkValues(static_cast<const openvdb::FloatGrid&>(grid), source,
+                  valueRule([](float a) { return albedoOk(openvdb::Vec3s(a)); },
+                            [](float a) { return describeAlbedo(openvdb::Vec3s(a)); }));
+  } else if (name == grid_names::kHgG) {
+    checkValues(static_cast<const openvdb::FloatGrid&>(grid), source,
+                valueRule([](float g) { return g > -1 && g < 1; },
+                          [](float g) { return fmt::format("hg_g {} outside (-1,1)", g); }));
+  } else if (const auto* vec3 = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) {
+    checkFinite(*vec3, source);
+  } else if (const auto* scalar = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {
+    checkFinite(*scalar, source);
+  }
+}
+
+void validateAcrossGrids(const Medium& medium, const std::string& source) {
+  if (!medium.density) throw MediumError(fmt::format("{}: no grid named '{}'", source, grid_names::kDensity));
+  checkMetadata(medium, source);
+  for (const auto& grid : medium.grids())
+    if (grid->transform() != medium.transform())
+      fail(source, grid->getName(), "its transform differs from the density grid's (all grids of a medium share one)");
+  checkSggxWhereDense(medium, source);
+}
+
+void validateMedium(const Medium& medium, const std::string& source) {
+  if (!medium.density) throw MediumError(fmt::format("{}: no grid named '{}'", source, grid_names::kDensity));
+  for (const auto& grid : medium.grids()) validateGrid(*grid, source);
+  validateAcrossGrids(medium, source);
+}
+
+}  // namespace vdbappear

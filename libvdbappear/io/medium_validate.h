@@ -1,0 +1,34 @@
+#pragma once
+// Checks a medium against the contract of docs/medium.md. Every failure throws MediumError naming
+// the file (`source`) and the grid; where values are at fault, the first bad voxel in (x,y,z)
+// order is named, so the message does not depend on the thread count.
+
+#include <string>
+
+#include <openvdb/version.h>
+
+namespace openvdb {
+OPENVDB_USE_VERSION_NAMESPACE
+namespace OPENVDB_VERSION_NAME {
+class GridBase;
+}
+}  // namespace openvdb
+
+namespace vdbappear {
+
+struct Medium;
+
+// What one grid must satisfy on its own: the value type its name requires; finite values;
+// density >= 0 with background 0 and at least one active voxel; albedo in [0,1]; hg_g in (-1,1).
+// Safe to run as soon as the grid is read, in parallel with reading the others.
+void validateGrid(const openvdb::GridBase& grid, const std::string& source);
+
+// What holds across grids: a density grid exists; all grids share its transform; sggx_offdiag
+// comes with sggx_diag; S is symmetric positive definite wherever density > 0; the schema and
+// hg_g metadata are understood.
+void validateAcrossGrids(const Medium& medium, const std::string& source);
+
+// Both of the above, for every grid of the medium.
+void validateMedium(const Medium& medium, const std::string& source);
+
+}  // namespace vdbappear
