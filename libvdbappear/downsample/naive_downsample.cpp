@@ -1,0 +1,296 @@
+#include "libvdbappear/downsample/naive_downsample.h"
+
+#include "libvdbappear/downsample/coarse_transform.h"
+#include "libvdbappear/io/leaf_values.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/util/error.h"
+#include "libvdbappear/util/progress.h"
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <memory>
+#include <optional>
+
+namespace vdbappear {
+
+namespace {
+
+using openvdb::Coord;
+using openvdb::Index;
+using openvdb::Vec3s;
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+using Vec3sLeaf = openvdb::Vec3STree::LeafNodeType;
+
+constexpr int kLeafDim = FloatLeaf::DIM;          // 8 voxels per leaf edge
+constexpr Index kLeafVoxels = FloatLeaf::SIZE;    // 512
+
+int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+Coord floorDiv(const Coord& c, int b) { return Coord(floorDiv(c.x(), b), floorDiv(c.y(), b), floorDiv(c.z(), b)); }
+Coord scaled(const Coord& c, int s) { return Coord(c.x() * s, c.y() * s, c.z() * s); }
+
+// Sums over the children of the 512 voxels of one coarse leaf (double precision).
+struct CoarseLeafSums {
+  std::array<double, kLeafVoxels> density{};                  // sum rho
+  std::array<std::array<double, 3>, kLeafVoxels> albedo{};    // sum rho * albedo
+  std::array<std::array<double, 6>, kLeafVoxels> S{};         // sum w * S (xx yy zz xy xz yz)
+  std::array<double, kLeafVoxels> S_weight{};                 // sum w
+  std::array<double, kLeafVoxels> g_scatter{}, scatter{};     // sum sigma_s * g, sum sigma_s
+  std::array<double, kLeafVoxels> g_density{};                // sum rho * g
+
+  void clear() { *this = CoarseLeafSums(); }
+};
+
+class NaiveDownsampler {
+ public:
+  NaiveDownsampler(const Medium& fine, const DownsampleOptions& options)
+      : fine_(fine), factor_(options.factor), weighting_(options.s_weighting) {
+    for (int i = 0; i < kLeafDim * factor_; ++i) coarse_local_[i] = i / factor_;
+  }
+
+  // Coarse leaf origins covered by the fine density's active values, sorted and unique.
+  std::vector<Coord> coarseLeafOrigins() const;
+
+  // Accessors to the fine grids, one set per task (they cache tree paths and are not thread-safe).
+  struct Accessors {
+    openvdb::FloatGrid::ConstAccessor density;
+    std::optional<openvdb::Vec3SGrid::ConstAccessor> albedo, sggx_diag, sggx_offdiag;
+    std::optional<openvdb::FloatGrid::ConstAccessor> hg_g;
+  };
+  Accessors accessors() const;
+
+  // One coarse leaf at `origin`: returns false when none of its voxels is active.
+  struct CoarseLeaves {
+    std::unique_ptr<FloatLeaf> density;
+    std::unique_ptr<Vec3sLeaf> albedo, sggx_diag, sggx_offdiag;
+    std::unique_ptr<FloatLeaf> hg_g;
+  };
+  bool buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums, CoarseLeaves& out) const;
+
+ private:
+  void accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
+                       CoarseLeafSums& sums) const;
+  void accumulateVoxel(Index fine_offset, float rho, Index coarse_offset, const LeafValues<openvdb::Vec3STree>* albedo,
+                       const LeafValues<openvdb::Vec3STree>* diag, const LeafValues<openvdb::Vec3STree>* offdiag,
+                       const LeafValues<openvdb::FloatTree>* hg_g, CoarseLeafSums& sums) const;
+  bool finish(const Coord& origin, const CoarseLeafSums& sums, CoarseLeaves& out) const;
+
+  const Medium& fine_;
+  int factor_;
+  SggxWeighting weighting_;
+  std::array<int, kLeafDim * 64> coarse_local_{};  // fine local coordinate in the coarse leaf's span -> coarse
+};
+
+std::vector<Coord> NaiveDownsampler::coarseLeafOrigins() const {
+  const int span = kLeafDim * factor_;  // fine voxels per coarse leaf edge
+  std::vector<Coord> origins;
+  const auto& tree = fine_.density->tree();
+  origins.reserve(tree.leafCount());
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
+    origins.push_back(scaled(floorDiv(leaf->origin(), span), kLeafDim));
+  auto tile = tree.cbeginValueOn();
+  tile.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);  // tiles only
+  for (; tile; ++tile) {
+    openvdb::CoordBBox box;
+    tile.getBoundingBox(box);
+    const Coord lo = floorDiv(box.min(), span), hi = floorDiv(box.max(), span);
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int z = lo.z(); z <= hi.z(); ++z) origins.push_back(scaled(Coord(x, y, z), kLeafDim));
+  }
+  std::sort(origins.begin(), origins.end());
+  origins.erase(std::unique(origins.begin(), origins.end()), origins.end());
+  return origins;
+}
+
+NaiveDownsampler::Accessors NaiveDownsampler::accessors() const {
+  Accessors acc{fine_.density->getConstAccessor(), {}, {}, {}, {}};
+  if (fine_.albedo) acc.albedo.emplace(fine_.albedo->getConstAccessor());
+  if (fine_.sggx_diag) acc.sggx_diag.emplace(fine_.sggx_diag->getConstAccessor());
+  if (fine_.sggx_offdiag) acc.sggx_offdiag.emplace(fine_.sggx_offdiag->getConstAccessor());
+  if (fine_.hg_g) acc.hg_g.emplace(fine_.hg_g->getConstAccessor());
+  return acc;
+}
+
+bool NaiveDownsampler::buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums,
+                                 CoarseLeaves& out) const {
+  sums.clear();
+  const Coord fine_origin = scaled(origin, factor_);  // a multiple of 8: exactly F^3 fine leaves
+  for (int a = 0; a < factor_; ++a)
+    for (int b = 0; b < factor_; ++b)
+      for (int c = 0; c < factor_; ++c)
+        accumulateBlock(acc, fine_origin + scaled(Coord(a, b, c), kLeafDim), Coord(a, b, c), sums);
+  return finish(origin, sums, out);
+}
+
+void NaiveDownsampler::accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
+                                       CoarseLeafSums& sums) const {
+  const LeafValues<openvdb::FloatTree> density(acc.density, fine_origin);
+  if (density.empty()) return;
+
+  std::optional<LeafValues<openvdb::Vec3STree>> albedo, diag, offdiag;
+  std::optional<LeafValues<openvdb::FloatTree>> hg_g;
+  if (acc.albedo) albedo.emplace(*acc.albedo, fine_origin);
+  if (acc.sggx_diag) diag.emplace(*acc.sggx_diag, fine_origin);
+  if (acc.sggx_offdiag) offdiag.emplace(*acc.sggx_offdiag, fine_origin);
+  if (acc.hg_g) hg_g.emplace(*acc.hg_g, fine_origin);
+
+  const int* to_coarse_x = &coarse_local_[block_index.x() * kLeafDim];
+  const int* to_coarse_y = &coarse_local_[block_index.y() * kLeafDim];
+  const int* to_coarse_z = &coarse_local_[block_index.z() * kLeafDim];
+  auto visit = [&](Index n, float rho) {
+    const Index coarse = FloatLeaf::coordToOffset(
+        Coord(to_coarse_x[n >> 6], to_coarse_y[(n >> 3) & 7], to_coarse_z[n & 7]));
+    accumulateVoxel(n, rho, coarse, albedo ? &*albedo : nullptr, diag ? &*diag : nullptr,
+                    offdiag ? &*offdiag : nullptr, hg_g ? &*hg_g : nullptr, sums);
+  };
+  if (density.leaf()) {
+    for (auto it = density.leaf()->cbeginValueOn(); it; ++it) visit(it.pos(), *it);
+  } else {  // an active tile covers the block
+    for (Index n = 0; n < kLeafVoxels; ++n) visit(n, density.constant());
+  }
+}
+
+void NaiveDownsampler::accumulateVoxel(Index n, float rho, Index coarse, const LeafValues<openvdb::Vec3STree>* albedo,
+                                       const LeafValues<openvdb::Vec3STree>* diag,
+                                       const LeafValues<openvdb::Vec3STree>* offdiag,
+                                       const LeafValues<openvdb::FloatTree>* hg_g, CoarseLeafSums& sums) const {
+  if (rho <= 0) return;  // empty children count as 0 in every sum
+  sums.density[coarse] += rho;
+  const Vec3s a = albedo ? (*albedo)[n] : Vec3s(1.0f);
+  for (int c = 0; c < 3; ++c) sums.albedo[coarse][c] += double(rho) * a[c];
+  if (diag) {
+    const double w = weighting_ == SggxWeighting::Count ? 1.0 : double(rho);
+    const Vec3s d = (*diag)[n];
+    const Vec3s o = offdiag ? (*offdiag)[n] : Vec3s(0.0f);
+    auto& S = sums.S[coarse];
+    for (int c = 0; c < 3; ++c) {
+      S[c] += w * d[c];
+      S[3 + c] += w * o[c];
+    }
+    sums.S_weight[coarse] += w;
+  }
+  if (hg_g) {
+    const double g = (*hg_g)[n];
+    const double sigma_s = double(rho) * (double(a[0]) + a[1] + a[2]) / 3;
+    sums.g_scatter[coarse] += sigma_s * g;
+    sums.scatter[coarse] += sigma_s;
+    sums.g_density[coarse] += double(rho) * g;
+  }
+}
+
+bool NaiveDownsampler::finish(const Coord& origin, const CoarseLeafSums& sums, CoarseLeaves& out) const {
+  const double children = double(factor_) * factor_ * factor_;
+  bool any = false;
+  for (Index n = 0; n < kLeafVoxels; ++n) {
+    const double rho_sum = sums.density[n];
+    if (rho_sum <= 0) continue;
+    if (!any) {
+      any = true;
+      out.density = std::make_unique<FloatLeaf>(origin, 0.0f);
+      if (fine_.albedo) out.albedo = std::make_unique<Vec3sLeaf>(origin, fine_.albedo->background());
+      if (fine_.sggx_diag) out.sggx_diag = std::make_unique<Vec3sLeaf>(origin, fine_.sggx_diag->background());
+      if (fine_.sggx_offdiag) out.sggx_offdiag = std::make_unique<Vec3sLeaf>(origin, fine_.sggx_offdiag->background());
+      if (fine_.hg_g) out.hg_g = std::make_unique<FloatLeaf>(origin, fine_.hg_g->background());
+    }
+    out.density->setValueOn(n, float(rho_sum / children));  // Eq. (6), left
+    if (out.albedo) {                                         // Eq. (6), right
+      const auto& a = sums.albedo[n];
+      out.albedo->setValueOn(n, Vec3s(float(a[0] / rho_sum), float(a[1] / rho_sum), float(a[2] / rho_sum)));
+    }
+    if (out.sggx_diag) {  // Eq. (5)
+      const auto& S = sums.S[n];
+      const double w = sums.S_weight[n];
+      out.sggx_diag->setValueOn(n, Vec3s(float(S[0] / w), float(S[1] / w), float(S[2] / w)));
+      if (out.sggx_offdiag) out.sggx_offdiag->setValueOn(n, Vec3s(float(S[3] / w), float(S[4] / w), float(S[5] / w)));
+    }
+    if (out.hg_g) {
+      const double g = sums.scatter[n] > 0 ? sums.g_scatter[n] / sums.scatter[n] : sums.g_density[n] / rho_sum;
+      out.hg_g->setValueOn(n, float(g));
+    }
+  }
+  return any;
+}
+
+template <typename GridT>
+typename GridT::Ptr emptyLike(const GridT& fine, const openvdb::math::Transform::Ptr& transform) {
+  auto grid = GridT::create(fine.background());
+  grid->setName(fine.getName());
+  grid->setGridClass(fine.getGridClass());
+  grid->setTransform(transform);
+  return grid;
+}
+
+template <typename GridT, typename LeafT>
+void addLeaf(const typename GridT::Ptr& grid, std::unique_ptr<LeafT>& leaf) {
+  if (grid && leaf) grid->tree().addLeaf(leaf.release());
+}
+
+bool isMultiLobeOrClusterGrid(const std::string& name) {
+  return name.rfind("lobe", 0) == 0 || name == grid_names::kCluster || name == grid_names::kPhaseId;
+}
+
+// Grids other than the base grids: pass the phase table through, refuse what cannot be averaged.
+void carryOtherGrids(const Medium& fine, const openvdb::math::Transform::Ptr& transform, Medium& coarse,
+                     std::vector<std::string>& warnings) {
+  for (const auto& grid : fine.other_grids) {
+    const std::string name = grid->getName();
+    if (name == grid_names::kPhaseTable) {  // not spatial: indexed by (bin, id, 0)
+      auto copy = grid->deepCopyGrid();
+      copy->setTransform(transform);
+      coarse.other_grids.push_back(copy);
+    } else if (isMultiLobeOrClusterGrid(name)) {
+      throw MediumError(fmt::format("{}: grid '{}': naive downsampling cannot average multi-lobe, cluster or "
+                                    "phase_id grids; downsample the full-resolution medium instead",
+                                    fine.source, name));
+    } else {
+      warnings.push_back(fmt::format("dropped grid '{}': not part of the medium contract, so it was not downsampled",
+                                     name));
+    }
+  }
+}
+
+}  // namespace
+
+DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& options, ProgressBar* progress) {
+  if (options.factor < 2 || options.factor > 64)
+    throw MediumError(fmt::format("downsampling factor {} outside 2..64", options.factor));
+  const auto transform = coarseTransform(fine.transform(), options.factor, fine.source);
+
+  DownsampleResult result;
+  auto coarse = std::make_shared<Medium>();
+  coarse->metadata = fine.metadata;
+  coarse->source = fine.source;
+  carryOtherGrids(fine, transform, *coarse, result.warnings);
+  coarse->density = emptyLike(*fine.density, transform);
+  if (fine.albedo) coarse->albedo = emptyLike(*fine.albedo, transform);
+  if (fine.sggx_diag) coarse->sggx_diag = emptyLike(*fine.sggx_diag, transform);
+  if (fine.sggx_offdiag) coarse->sggx_offdiag = emptyLike(*fine.sggx_offdiag, transform);
+  if (fine.hg_g) coarse->hg_g = emptyLike(*fine.hg_g, transform);
+
+  const NaiveDownsampler downsampler(fine, options);
+  const std::vector<Coord> origins = downsampler.coarseLeafOrigins();
+  std::vector<NaiveDownsampler::CoarseLeaves> leaves(origins.size());
+  if (progress) progress->setTotal(origins.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
+    auto sums = std::make_unique<CoarseLeafSums>();
+    auto accessors = downsampler.accessors();
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      downsampler.buildLeaf(origins[i], accessors, *sums, leaves[i]);
+    if (progress) progress->advance(range.size());
+  });
+  for (auto& leaf : leaves) {  // adding leaves to a tree is serial, and cheap
+    addLeaf<openvdb::FloatGrid>(coarse->density, leaf.density);
+    addLeaf<openvdb::Vec3SGrid>(coarse->albedo, leaf.albedo);
+    addLeaf<openvdb::Vec3SGrid>(coarse->sggx_diag, leaf.sggx_diag);
+    addLeaf<openvdb::Vec3SGrid>(coarse->sggx_offdiag, leaf.sggx_offdiag);
+    addLeaf<openvdb::FloatGrid>(coarse->hg_g, leaf.hg_g);
+  }
+  result.medium = coarse;
+  return result;
+}
+
+}  // namespace vdbappear
