@@ -1,0 +1,36 @@
+#pragma once
+// What every vdbappear tool shares: one error line and a non-zero exit on failure, a thread limit,
+// and JSON reports written atomically.
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace vdbappear::tool {
+
+// Parses flags, then runs `body`, which returns the exit status. A flag error prints CLI11's
+// message and exits non-zero; any exception thrown by `body` becomes one line
+// "TOOL: error: MESSAGE" on stderr and exit status 1.
+int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+
+// Adds -j/--threads N (0: all cores). The limit holds while the returned object lives.
+class ThreadLimit {
+ public:
+  explicit ThreadLimit(CLI::App& app);
+  ~ThreadLimit();
+  void apply();
+
+ private:
+  int threads_ = 0;
+  std::shared_ptr<void> control_;
+};
+
+// Writes `report` as indented JSON to `path` ("-": stdout), through a temporary file.
+void writeJsonReport(const std::string& path, const nlohmann::json& report);
+
+std::uint64_t fileSize(const std::string& path);  // 0 for "-" or a missing file
+
+}  // namespace vdbappear::tool

@@ -1,0 +1,118 @@
+// vdb_sggx_downsample: naive downsampling of density, albedo and SGGX phase functions
+// (Eq. 5-6 of Zhao et al. 2016, "Downsampling Scattering Parameters for Rendering Anisotropic Media").
+#include "tool_main.h"
+
+#include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/version.h"
+
+#include <fmt/format.h>
+
+#include <map>
+
+using namespace vdbappear;
+
+namespace {
+
+constexpr const char* kTool = "vdb_sggx_downsample";
+
+constexpr const char* kExamples = R"(Examples:
+  vdb_sggx_downsample --factor 4 twill.vdb twill_4x.vdb
+  vdb_sggx_downsample --factor 2 in.vdb - | vdb_sggx_downsample --factor 2 - out.vdb
+  vdb_sggx_downsample -f 8 --s-weight density -v --report report.json in.vdb out.vdb
+
+Output voxel I holds input voxels F*I .. F*I+F-1 on each axis; the world region is preserved.
+density: mean over the F^3 children, empty ones counting 0 (Eq. 6). albedo: density-weighted mean
+(Eq. 6). S: mean over children with density > 0 (Eq. 5, --s-weight count) or density-weighted
+(--s-weight density). See docs/downsampling.md.)";
+
+struct Options {
+  std::string input, output, report;
+  DownsampleOptions downsample;
+  bool verbose = false;
+};
+
+nlohmann::json summaryJson(const MediumSummary& s, const std::string& path) {
+  nlohmann::json grids = nlohmann::json::array();
+  for (const auto& g : s.grids)
+    grids.push_back({{"name", g.name}, {"type", g.type}, {"active_voxels", g.active_voxels}, {"memory_bytes", g.memory_bytes}});
+  return {{"path", path},
+          {"active_voxels", s.active_voxels},
+          {"memory_bytes", s.memory_bytes},
+          {"file_bytes", tool::fileSize(path)},
+          {"voxel_size", s.voxel_size},
+          {"grids", grids}};
+}
+
+int downsample(const Options& options, const std::string& history) {
+  Stopwatch clock;
+  const MediumPtr fine = readMedium(options.input);
+  const double read_seconds = clock.lap();
+
+  DownsampleResult result;
+  {
+    ProgressBar progress("downsampling", 0);
+    result = downsampleNaive(*fine, options.downsample, &progress);
+  }
+  const double downsample_seconds = clock.lap();
+  for (const auto& warning : result.warnings) fmt::print(stderr, "{}: warning: {}\n", kTool, warning);
+
+  writeMedium(*result.medium, options.output, history);
+  const double write_seconds = clock.lap();
+
+  const MediumSummary in = summarize(*fine), out = summarize(*result.medium);
+  if (options.verbose) {
+    fmt::print(stderr, "{}: {} -> {}: factor {}, {} -> {} active voxels ({:.1f}x fewer), {:.1f} -> {:.1f} MB in memory\n",
+               kTool, options.input, options.output, options.downsample.factor, in.active_voxels, out.active_voxels,
+               double(in.active_voxels) / double(std::max<std::uint64_t>(1, out.active_voxels)),
+               in.memory_bytes / 1e6, out.memory_bytes / 1e6);
+    fmt::print(stderr, "{}: read {:.3f} s, downsample {:.3f} s, write {:.3f} s\n", kTool, read_seconds,
+               downsample_seconds, write_seconds);
+  }
+  if (!options.report.empty()) {
+    tool::writeJsonReport(options.report,
+                          {{"tool", kTool},
+                           {"version", kVersion},
+                           {"factor", options.downsample.factor},
+                           {"s_weight", options.downsample.s_weighting == SggxWeighting::Count ? "count" : "density"},
+                           {"input", summaryJson(in, options.input)},
+                           {"output", summaryJson(out, options.output)},
+                           {"seconds", {{"read", read_seconds}, {"downsample", downsample_seconds}, {"write", write_seconds}}},
+                           {"warnings", result.warnings}});
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Naive downsampling of a medium's density, albedo and SGGX phase functions "
+               "(Eq. 5-6 of the downsampling paper): the baseline other reductions are compared with.",
+               kTool);
+  app.footer(kExamples);
+  app.set_version_flag("--version", kVersion);
+  Options options;
+  app.add_option("IN", options.input, "input medium (.vdb); - reads a VDB stream from stdin")->required();
+  app.add_option("OUT", options.output, "output medium (.vdb); - writes a VDB stream to stdout")->required();
+  app.add_option("-f,--factor", options.downsample.factor, "downsampling factor F, an integer >= 2")
+      ->check(CLI::Range(2, 64))
+      ->capture_default_str();
+  const std::map<std::string, SggxWeighting> weightings{{"count", SggxWeighting::Count},
+                                                        {"density", SggxWeighting::Density}};
+  app.add_option("--s-weight", options.downsample.s_weighting,
+                 "how children's S are averaged: count (Eq. 5, mean over children with density > 0) or "
+                 "density (density-weighted mean)")
+      ->transform(CLI::CheckedTransformer(weightings, CLI::ignore_case))
+      ->default_str("count");
+  app.add_flag("-v,--verbose", options.verbose, "print voxel counts, memory and timings to stderr");
+  app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
+  tool::ThreadLimit threads(app);
+
+  const std::string history = historyLine(kTool, argc, argv);
+  return tool::run(app, argc, argv, [&] {
+    threads.apply();
+    return downsample(options, history);
+  });
+}
