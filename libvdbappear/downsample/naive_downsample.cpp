@@ -28,7 +28,7 @@ using Vec3sLeaf = openvdb::Vec3STree::LeafNodeType;
 constexpr int kLeafDim = FloatLeaf::DIM;          // 8 voxels per leaf edge
 constexpr Index kLeafVoxels = FloatLeaf::SIZE;    // 512
 
-int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int floorDiv(int a, int b) { return a / b - ((a % b != 0) && (a < 0)); }
 Coord floorDiv(const Coord& c, int b) { return Coord(floorDiv(c.x(), b), floorDiv(c.y(), b), floorDiv(c.z(), b)); }
 Coord scaled(const Coord& c, int s) { return Coord(c.x() * s, c.y() * s, c.z() * s); }
 

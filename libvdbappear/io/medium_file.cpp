@@ -7,7 +7,7 @@
 #include "libvdbappear/version.h"
 
 #include <openvdb/io/Stream.h>
-#include <openvdb/tools/ValueTransformer.h>
+#include <openvdb/tree/LeafManager.h>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -30,8 +30,8 @@ struct VdbContents {
 };
 
 // Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
-// is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first in
-// the file is reported.
+// is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first by
+// name is reported.
 VdbContents readVdbFile(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
@@ -46,9 +46,11 @@ VdbContents readVdbFile(const std::string& path) {
   } catch (const std::exception& e) {
     throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, e.what()));
   }
-  for (std::size_t i = 0; i < names.size(); ++i)
-    if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
-      throw MediumError(fmt::format("{}: grid '{}': appears twice", path, names[i]));
+  for (const auto& name : names) {  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
+    using openvdb::io::GridDescriptor;
+    const std::string base = GridDescriptor::stripSuffix(GridDescriptor::stringAsUniqueName(name));
+    if (base != name) throw MediumError(fmt::format("{}: grid '{}': appears more than once", path, base));
+  }
 
   contents.grids.resize(names.size());
   std::vector<std::exception_ptr> failures(names.size());
@@ -56,9 +58,9 @@ VdbContents readVdbFile(const std::string& path) {
     try {
       try {
         openvdb::io::File file(path);
-        file.open(/*delayLoad=*/false);  // read everything now: a truncated file fails here, not later
+        file.open(/*delayLoad=*/false);  // no lazy loading: a truncated grid fails in readGrid, not later
         contents.grids[i] = file.readGrid(names[i]);
-      } catch (const openvdb::Exception& e) {
+      } catch (const std::exception& e) {
         throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], e.what()));
       }
       validateGrid(*contents.grids[i], path);
@@ -81,16 +83,20 @@ VdbContents readVdbStdin() {
   }
 }
 
-// A grey albedo (FloatGrid) as RGB.
+// A grey albedo (FloatGrid) as RGB: the same topology, each value repeated in three channels.
 openvdb::Vec3SGrid::Ptr greyToRgb(const openvdb::FloatGrid& grey) {
   auto rgb = openvdb::Vec3SGrid::create(openvdb::Vec3s(grey.background()));
   rgb->setName(grey.getName());
   rgb->setTransform(grey.transform().copy());
   rgb->tree().topologyUnion(grey.tree());
-  auto source = grey.getConstAccessor();
-  openvdb::tools::foreach(rgb->beginValueOn(), [source](const openvdb::Vec3SGrid::ValueOnIter& it) {
-    it.setValue(openvdb::Vec3s(source.getValue(it.getCoord())));
+  openvdb::tree::LeafManager<openvdb::Vec3STree> leaves(rgb->tree());
+  leaves.foreach([&grey](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+    const auto* source = grey.tree().probeConstLeaf(leaf.origin());  // same topology: present
+    for (openvdb::Index n = 0; n < leaf.SIZE; ++n) leaf.setValueOnly(n, openvdb::Vec3s(source->getValue(n)));
   });
+  auto tile = rgb->tree().beginValueOn();
+  tile.setMaxDepth(openvdb::Vec3STree::ValueOnIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile) tile.setValue(openvdb::Vec3s(grey.tree().getValue(tile.getCoord())));
   return rgb;
 }
 

@@ -32,6 +32,7 @@ struct Problem {
   Coord where;
   bool voxel = true;
   std::string what;
+  std::string grid;  // set where the checked tree is not the grid at fault
 };
 
 void keepFirst(std::optional<Problem>& best, std::optional<Problem> candidate) {
@@ -80,14 +81,14 @@ std::optional<Problem> firstProblem(const TreeT& tree, const RuleT& rule) {
     for (openvdb::Index n = 0; n < TreeT::LeafNodeType::SIZE; ++n) all_ok &= rule.ok(values[n]);
     if (all_ok) return std::nullopt;
     for (auto it = leaf.cbeginValueOn(); it; ++it)  // offsets ascend in (x,y,z) order
-      if (!rule.ok(*it)) return Problem{it.getCoord(), true, rule.describe(*it)};
+      if (!rule.ok(*it)) return Problem{it.getCoord(), true, rule.describe(*it), {}};
     return std::nullopt;
   };
   std::optional<Problem> first = firstProblemInLeaves(tree, leaf_check);
   auto tile = tree.cbeginValueOn();
   tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
   for (; tile; ++tile)
-    if (!rule.ok(*tile)) keepFirst(first, Problem{tile.getCoord(), false, rule.describe(*tile)});
+    if (!rule.ok(*tile)) keepFirst(first, Problem{tile.getCoord(), false, rule.describe(*tile), {}});
   return first;
 }
 
@@ -154,34 +155,60 @@ void checkValueType(const openvdb::GridBase& grid, const std::string& source) {
   fail(source, grid.getName(), fmt::format("holds {} values, expected {}", grid.valueType(), required->front()));
 }
 
-// S is SPD wherever density > 0 (S matters only there; empty voxels may hold anything finite).
-void checkSggxWhereDense(const Medium& medium, const std::string& source) {
+// The values the tools use are those of albedo, S and hg_g wherever density > 0, whether or not
+// those voxels are active in their own grids (inactive ones read as the stored or background
+// value). One pass over the density leaves checks them all.
+class WhereDenseCheck {
+ public:
+  explicit WhereDenseCheck(const Medium& medium) : medium_(medium) {}
+
+  std::optional<Problem> operator()(const openvdb::FloatTree::LeafNodeType& leaf) const {
+    const openvdb::Coord origin = leaf.origin();
+    using V3 = LeafValues<openvdb::Vec3STree>;
+    const V3 albedo = medium_.albedo ? V3(medium_.albedo->tree(), origin) : V3(openvdb::Vec3s(0.5f));
+    const V3 diag = medium_.sggx_diag ? V3(medium_.sggx_diag->tree(), origin) : V3(openvdb::Vec3s(1.0f));
+    const V3 offdiag = medium_.sggx_offdiag ? V3(medium_.sggx_offdiag->tree(), origin) : V3(openvdb::Vec3s(0.0f));
+    using V1 = LeafValues<openvdb::FloatTree>;
+    const V1 hg_g = medium_.hg_g ? V1(medium_.hg_g->tree(), origin) : V1(0.0f);
+    for (auto it = leaf.cbeginValueOn(); it; ++it) {
+      if (*it <= 0) continue;
+      const openvdb::Index n = it.pos();
+      if (auto problem = problemAt(albedo[n], diag[n], offdiag[n], hg_g[n])) {
+        return Problem{it.getCoord(), true, fmt::format("{} where density is {}", problem->second, *it),
+                       problem->first};
+      }
+    }
+    return std::nullopt;
+  }
+
+ private:
+  // (grid at fault, what is wrong), if anything.
+  static std::optional<std::pair<std::string, std::string>> problemAt(const openvdb::Vec3s& a, const openvdb::Vec3s& d,
+                                                                      const openvdb::Vec3s& o, float g) {
+    if (!albedoOk(a)) return std::pair{std::string(grid_names::kAlbedo), describeAlbedo(a)};
+    if (!isPositiveDefinite(Vec3(d[0], d[1], d[2]), Vec3(o[0], o[1], o[2])))
+      return std::pair{std::string(grid_names::kSggxDiag),
+                       fmt::format("S (diag {} {} {}, offdiag {} {} {}) is not positive definite", d[0], d[1], d[2],
+                                   o[0], o[1], o[2])};
+    if (!(g > -1 && g < 1)) return std::pair{std::string(grid_names::kHgG), fmt::format("hg_g {} outside (-1,1)", g)};
+    return std::nullopt;
+  }
+
+  const Medium& medium_;
+};
+
+void checkValuesWhereDense(const Medium& medium, const std::string& source) {
   if (medium.sggx_offdiag && !medium.sggx_diag) fail(source, grid_names::kSggxOffdiag, "present without 'sggx_diag'");
-  if (!medium.sggx_diag) return;
+  if (!medium.albedo && !medium.sggx_diag && !medium.hg_g) return;
   const openvdb::FloatTree* density = &medium.density->tree();
-  std::unique_ptr<openvdb::FloatTree> voxelized;  // tiles hide per-voxel S: check every voxel they cover
+  std::unique_ptr<openvdb::FloatTree> voxelized;  // tiles hide per-voxel values: visit every voxel they cover
   if (density->hasActiveTiles()) {
     voxelized = std::make_unique<openvdb::FloatTree>(*density);
     voxelized->voxelizeActiveTiles();
     density = voxelized.get();
   }
-  const openvdb::Vec3STree& diag = medium.sggx_diag->tree();
-  const openvdb::Vec3STree* offdiag = medium.sggx_offdiag ? &medium.sggx_offdiag->tree() : nullptr;
-  auto leaf_check = [&diag, offdiag](const openvdb::FloatTree::LeafNodeType& leaf) -> std::optional<Problem> {
-    const LeafValues<openvdb::Vec3STree> d(diag, leaf.origin());
-    const LeafValues<openvdb::Vec3STree> o = offdiag ? LeafValues<openvdb::Vec3STree>(*offdiag, leaf.origin())
-                                                     : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(0.0f));
-    for (auto it = leaf.cbeginValueOn(); it; ++it) {
-      if (*it <= 0) continue;
-      const openvdb::Vec3s dn = d[it.pos()], on = o[it.pos()];
-      if (isPositiveDefinite(Vec3(dn[0], dn[1], dn[2]), Vec3(on[0], on[1], on[2]))) continue;
-      return Problem{it.getCoord(), true,
-                     fmt::format("S (diag {} {} {}, offdiag {} {} {}) is not positive definite where density is {}",
-                                 dn[0], dn[1], dn[2], on[0], on[1], on[2], *it)};
-    }
-    return std::nullopt;
-  };
-  if (auto problem = firstProblemInLeaves(*density, leaf_check)) fail(source, grid_names::kSggxDiag, *problem);
+  const WhereDenseCheck check(medium);
+  if (auto problem = firstProblemInLeaves(*density, check)) fail(source, problem->grid, *problem);
 }
 
 void checkMetadata(const Medium& medium, const std::string& source) {
@@ -228,7 +255,7 @@ void validateAcrossGrids(const Medium& medium, const std::string& source) {
   for (const auto& grid : medium.grids())
     if (grid->transform() != medium.transform())
       fail(source, grid->getName(), "its transform differs from the density grid's (all grids of a medium share one)");
-  checkSggxWhereDense(medium, source);
+  checkValuesWhereDense(medium, source);
 }
 
 void validateMedium(const Medium& medium, const std::string& source) {

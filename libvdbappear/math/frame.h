@@ -12,7 +12,7 @@ struct Frame {
   Vec3 s, t, n;
 
   // Duff, Burgess, Christensen, Hery, Kensler, Liani, Villemin 2017,
-  // "Building an Orthonormal Basis, Revisited" (branchless, continuous away from n.z = -1).
+  // "Building an Orthonormal Basis, Revisited" (robust everywhere, n.z = -1 included).
   static Frame fromNormal(const Vec3& n) {
     const double sign = std::copysign(1.0, n.z());
     const double a = -1.0 / (sign + n.z());

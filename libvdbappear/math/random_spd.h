@@ -20,7 +20,7 @@ inline Mat3 uniformRotation(double u1, double u2, double u3) {
 }
 
 // R diag(lambda) R^T with R uniform and eigenvalues log-uniform in [min_eigenvalue, 1]
-// (u_eigen in [0,1)^3 picks them).
+// (u_eigen in [0,1)^3 picks them). min_eigenvalue must be > 0.
 inline Mat3 randomSpdMatrix(double u1, double u2, double u3, const Vec3& u_eigen, double min_eigenvalue) {
   const Mat3 R = uniformRotation(u1, u2, u3);
   Vec3 lambda;

@@ -31,12 +31,14 @@ Mat3 sggxMatrix(const Vec3& diag, const Vec3& offdiag) {
   return S;
 }
 
-Mat3 Sggx::fiberMatrix(const Vec3& t, double roughness) {
+Mat3 Sggx::fiberMatrix(const Vec3& tangent, double roughness) {
+  const Vec3 t = tangent.normalized();
   const Mat3 ttT = t * t.transpose();
   return (Mat3::Identity() - ttT) + roughness * roughness * ttT;
 }
 
-Mat3 Sggx::surfaceMatrix(const Vec3& n, double roughness) {
+Mat3 Sggx::surfaceMatrix(const Vec3& normal, double roughness) {
+  const Vec3 n = normal.normalized();
   const Mat3 nnT = n * n.transpose();
   return nnT + roughness * roughness * (Mat3::Identity() - nnT);
 }
@@ -68,7 +70,7 @@ Vec3 Sggx::sampleVisibleNormal(const Vec3& wi, const Point2& u) const {
   const double S_kj = wk.dot(S_ * wj), S_ki = wk.dot(S_ * wi), S_ji = wj.dot(S_ * wi);
   const double sqrt_det_S_kji = sqrt_det_S_;  // the determinant does not depend on the frame
   const double inv_sqrt_S_ii = 1 / std::sqrt(S_ii);
-  const double tmp = std::sqrt(std::max(0.0, S_jj * S_ii - S_ji * S_ji));
+  const double tmp = std::sqrt(std::max(1e-300, S_jj * S_ii - S_ji * S_ji));
   const Vec3 M_k(sqrt_det_S_kji / tmp, 0, 0);
   const Vec3 M_j(-inv_sqrt_S_ii * (S_ki * S_ji - S_kj * S_ii) / tmp, inv_sqrt_S_ii * tmp, 0);
   const Vec3 M_i(inv_sqrt_S_ii * S_ki, inv_sqrt_S_ii * S_ji, inv_sqrt_S_ii * S_ii);
@@ -86,7 +88,8 @@ double Sggx::phase(const Vec3& wi, const Vec3& wo) const {
 PhaseSample Sggx::samplePhase(const Vec3& wi, const Point2& u) const {
   const Vec3 m = sampleVisibleNormal(wi, u);
   const Vec3 wo = reflect(wi, m).normalized();
-  return {wo, phase(wi, wo), 1.0};
+  const double pdf = phase(wi, wo);
+  return {wo, pdf, pdf > 0 ? 1.0 : 0.0};
 }
 
 }  // namespace vdbappear

@@ -9,6 +9,8 @@
 
 #include "libvdbappear/math/vector.h"
 
+#include <cmath>
+
 namespace vdbappear {
 
 // A direction sampled from a phase function. weight = f / pdf.
@@ -30,7 +32,8 @@ inline bool isPositiveDefinite(const Vec3& diag, const Vec3& offdiag) {
   const double xx = diag.x(), yy = diag.y(), zz = diag.z(), xy = offdiag.x(), xz = offdiag.y(), yz = offdiag.z();
   const double minor2 = xx * yy - xy * xy;
   const double det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-  return xx > 0 && minor2 > 0 && det > 0;  // false for NaN too
+  const bool finite = std::isfinite(xx + yy + zz + xy + xz + yz);
+  return finite && xx > 0 && minor2 > 0 && det > 0;  // false for NaN too
 }
 
 class Sggx {
@@ -40,13 +43,13 @@ class Sggx {
 
   static Sggx fromChannels(const Vec3& diag, const Vec3& offdiag) { return Sggx(sggxMatrix(diag, offdiag)); }
 
-  // Fiber-like flakes around a fiber with unit tangent t: the flake normals lie mostly in the
+  // Fiber-like flakes around a fiber with tangent t (normalised here): the flake normals lie mostly in the
   // plane orthogonal to t. S = (I - t t^T) + roughness^2 t t^T (Heitz et al. 2015, §4).
   // The eigenvector with the smallest eigenvalue (roughness^2) is the tangent.
   static Mat3 fiberMatrix(const Vec3& t, double roughness);
   static Sggx fromFiberTangent(const Vec3& t, double roughness) { return Sggx(fiberMatrix(t, roughness)); }
 
-  // Surface-like flakes with unit normal n: S = n n^T + roughness^2 (I - n n^T).
+  // Surface-like flakes with normal n (normalised here): S = n n^T + roughness^2 (I - n n^T).
   static Mat3 surfaceMatrix(const Vec3& n, double roughness);
   static Sggx fromSurfaceNormal(const Vec3& n, double roughness) { return Sggx(surfaceMatrix(n, roughness)); }
 
@@ -69,7 +72,8 @@ class Sggx {
   // It integrates to 1 over wo; note f(wi->wo) sigma(wi) = f(wo->wi) sigma(wo).
   double phase(const Vec3& wi, const Vec3& wo) const;
 
-  // Samples wo by reflecting wi about a visible normal; pdf = phase(wi, wo), so weight = 1.
+  // Samples wo by reflecting wi about a visible normal; pdf = phase(wi, wo), so weight = 1
+  // (0 in the measure-zero case of a normal at grazing incidence, where pdf = 0).
   PhaseSample samplePhase(const Vec3& wi, const Point2& u) const;
 
  private:

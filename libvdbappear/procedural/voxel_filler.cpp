@@ -68,7 +68,7 @@ void adopt(const GridPtrT& grid, std::unique_ptr<LeafT>& leaf) {
 MediumPtr fillMedium(const ProceduralLayout& layout, const BlockTest& may_be_occupied, const VoxelFunction& sample) {
   openvdb::initialize();
   constexpr int kDim = FloatLeaf::DIM;
-  auto alignDown = [](int v) { return v >= 0 ? v / kDim * kDim : -((-v + kDim - 1) / kDim) * kDim; };
+  auto alignDown = [](int v) { return v & ~(kDim - 1); };  // two's complement: rounds toward -inf
   const Coord first(alignDown(layout.bounds.min().x()), alignDown(layout.bounds.min().y()),
                     alignDown(layout.bounds.min().z()));
   std::vector<CoordBBox> blocks;
