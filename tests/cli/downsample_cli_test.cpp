@@ -1,0 +1,180 @@
+// vdb_sggx_downsample and vdb_make_medium from the command line: flags, errors, pipes, files.
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/procedural/random_medium.h"
+
+#include "cli/run_command.h"
+#include "support/medium_testing.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::runCommand;
+using test::TempDir;
+
+const std::string kDownsample = quote(VDB_SGGX_DOWNSAMPLE);
+const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
+
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream content;
+  content << in.rdbuf();
+  return content.str();
+}
+
+bool exists(const std::string& path) { return std::filesystem::exists(path); }
+
+// A random medium file made by vdb_make_medium.
+std::string makeRandomFile(const TempDir& dir, int res = 40, int seed = 3) {
+  const std::string path = dir.path("in.vdb");
+  const auto r = runCommand(kMakeMedium + " random --res " + std::to_string(res) + " --seed " + std::to_string(seed) +
+                            " -o " + quote(path));
+  EXPECT_EQ(r.status, 0) << r.err;
+  return path;
+}
+
+TEST(DownsampleCli, HelpShowsUsageAndExamples) {
+  const auto r = runCommand(kDownsample + " --help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("Usage:"), std::string::npos);
+  EXPECT_NE(r.out.find("--s-weight"), std::string::npos);
+  EXPECT_NE(r.out.find("Examples:"), std::string::npos);
+}
+
+TEST(DownsampleCli, NonsenseFlagsFailWithoutOutput) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir), out = dir.path("out.vdb");
+  for (const std::string flags : {"--factor 1", "--factor abc", "--factor 2.5", "--s-weight bogus", "--bogus",
+                                  "--threads -2"}) {
+    const auto r = runCommand(kDownsample + " " + flags + " " + quote(in) + " " + quote(out));
+    EXPECT_NE(r.status, 0) << "flags '" << flags << "'";
+    EXPECT_FALSE(r.err.empty()) << "flags '" << flags << "'";
+    EXPECT_FALSE(exists(out)) << "flags '" << flags << "'";
+  }
+  EXPECT_NE(runCommand(kDownsample).status, 0) << "no arguments";
+}
+
+TEST(DownsampleCli, MissingInputIsOneErrorLineAndNoOutput) {
+  TempDir dir;
+  const std::string out = dir.path("out.vdb");
+  const auto r = runCommand(kDownsample + " -f 2 " + quote(dir.path("absent.vdb")) + " " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err, "vdb_sggx_downsample: error: " + dir.path("absent.vdb") + ": no such file\n");
+  EXPECT_FALSE(exists(out));
+}
+
+TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
+  TempDir dir;
+  RandomMediumParams p;
+  p.extent = 16;
+  const MediumPtr medium = makeRandomMedium(p);
+  for (auto it = medium->density->beginValueOn(); it; ++it) {
+    if (*it > 0) {
+      it.setValue(-1.0f);
+      break;
+    }
+  }
+  const std::string in = dir.path("negative.vdb"), out = dir.path("out.vdb");
+  test::writeRawVdb(in, test::copyGrids(*medium));
+  std::ofstream(out) << "previous result";
+  const auto r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(in + ": grid 'density': negative density -1"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(fileBytes(out), "previous result");
+  EXPECT_EQ(test::listFiles(dir.root()), (std::vector<std::string>{"negative.vdb", "out.vdb"}));
+}
+
+TEST(DownsampleCli, EmptyStdinIsAnError) {
+  TempDir dir;
+  const auto r = runCommand("true | " + kDownsample + " -f 2 - " + quote(dir.path("out.vdb")));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("stdin: not a readable VDB stream"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(dir.path("out.vdb")));
+}
+
+// The acceptance test of the issue: two factor-2 steps through a pipe equal one factor-4 step.
+TEST(DownsampleCli, PipedFactorTwoTwiceEqualsFactorFour) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir, 64);
+  const std::string before = fileBytes(in);
+  const std::string chained = dir.path("chained.vdb"), direct = dir.path("direct.vdb");
+  auto r = runCommand(kDownsample + " --factor 2 " + quote(in) + " - | " + kDownsample + " --factor 2 - " +
+                      quote(chained));
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = runCommand(kDownsample + " --factor 4 " + quote(in) + " " + quote(direct));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(fileBytes(in), before) << "inputs are never modified";
+
+  const MediumPtr a = readMedium(chained), b = readMedium(direct);
+  EXPECT_TRUE(test::gridsMatch(*b->density, *a->density, 1e-5));
+  EXPECT_TRUE(test::gridsMatch(*b->albedo, *a->albedo, 1e-5));
+  EXPECT_EQ(a->transform(), b->transform());
+  const std::string history = a->metadata.metaValue<std::string>("history");
+  EXPECT_NE(history.find("vdb_make_medium"), std::string::npos) << history;
+  EXPECT_NE(history.find("vdb_sggx_downsample --factor 2 " + in + " -"), std::string::npos) << history;
+  EXPECT_NE(history.find("vdb_sggx_downsample --factor 2 - " + chained), std::string::npos) << history;
+}
+
+TEST(DownsampleCli, OutputDoesNotDependOnTheThreadCount) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir, 48);
+  const std::string one = dir.path("one.vdb"), two = dir.path("two.vdb");
+  ASSERT_EQ(runCommand(kDownsample + " -f 3 --s-weight density -j 1 " + quote(in) + " " + quote(one)).status, 0);
+  ASSERT_EQ(runCommand(kDownsample + " -f 3 --s-weight density -j 2 " + quote(in) + " " + quote(two)).status, 0);
+  const MediumPtr a = readMedium(one), b = readMedium(two);
+  EXPECT_TRUE(test::gridsMatch(*a->density, *b->density, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+}
+
+TEST(DownsampleCli, ReportAndVerboseSummaryCountVoxels) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir), out = dir.path("out.vdb"), report = dir.path("report.json");
+  const auto r = runCommand(kDownsample + " -v -f 2 --report " + quote(report) + " " + quote(in) + " " + quote(out));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("active voxels"), std::string::npos) << r.err;
+  std::ifstream file(report);
+  const nlohmann::json json = nlohmann::json::parse(file);
+  EXPECT_EQ(json["factor"], 2);
+  EXPECT_EQ(json["s_weight"], "count");
+  EXPECT_EQ(json["output"]["active_voxels"].get<std::uint64_t>(), readMedium(out)->density->activeVoxelCount());
+  EXPECT_GT(json["input"]["file_bytes"].get<std::uint64_t>(), 0u);
+  EXPECT_TRUE(json["seconds"].contains("downsample"));
+}
+
+TEST(MakeMediumCli, ListsKindsAndIsDeterministicUnderASeed) {
+  const auto list = runCommand(kMakeMedium + " --list");
+  EXPECT_EQ(list.status, 0);
+  EXPECT_NE(list.out.find("weave"), std::string::npos);
+  EXPECT_NE(list.out.find("random"), std::string::npos);
+
+  TempDir dir;
+  for (const std::string kind : {"weave", "random"}) {
+    const std::string a = dir.path(kind + "_a.vdb"), b = dir.path(kind + "_b.vdb"), c = dir.path(kind + "_c.vdb");
+    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 5 -j 1 -o " + quote(a)).status, 0);
+    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 5 -o " + quote(b)).status, 0);
+    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 6 -o " + quote(c)).status, 0);
+    const MediumPtr ma = readMedium(a), mb = readMedium(b), mc = readMedium(c);
+    EXPECT_TRUE(test::gridsMatch(*ma->density, *mb->density, 0)) << kind;
+    EXPECT_TRUE(test::gridsMatch(*ma->albedo, *mb->albedo, 0)) << kind;
+    EXPECT_TRUE(test::gridsMatch(*ma->sggx_diag, *mb->sggx_diag, 0)) << kind;
+    EXPECT_FALSE(test::gridsMatch(*ma->albedo, *mc->albedo, 0)) << kind << ": another seed, another medium";
+  }
+  const auto unknown = runCommand(kMakeMedium + " velvetish -o " + quote(dir.path("x.vdb")));
+  EXPECT_NE(unknown.status, 0);
+  EXPECT_NE(unknown.err.find("unknown kind 'velvetish'"), std::string::npos) << unknown.err;
+}
+
+}  // namespace
+}  // namespace vdbappear

@@ -1,0 +1,18 @@
+#include "medium_testing.h"
+
+namespace vdbappear::test {
+
+void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& metadata) {
+  openvdb::initialize();
+  openvdb::io::File file(path);
+  file.write(grids, metadata);
+  file.close();
+}
+
+openvdb::GridPtrVec copyGrids(const Medium& medium) {
+  openvdb::GridPtrVec grids;
+  for (const auto& grid : medium.grids()) grids.push_back(grid->deepCopyGrid());
+  return grids;
+}
+
+}  // namespace vdbappear::test

@@ -1,0 +1,44 @@
+#pragma once
+// Helpers for tests that build, write and compare media with OpenVDB directly.
+
+#include "libvdbappear/io/medium.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace vdbappear::test {
+
+// Writes grids and metadata with OpenVDB alone (no validation, no history), as another program might.
+void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& metadata = {});
+
+// A deep copy of every grid of a medium, as a GridPtrVec (for writeRawVdb).
+openvdb::GridPtrVec copyGrids(const Medium& medium);
+
+inline double maxAbsDifference(float a, float b) { return std::abs(double(a) - double(b)); }
+inline double maxAbsDifference(int a, int b) { return std::abs(double(a) - double(b)); }
+inline double maxAbsDifference(const openvdb::Vec3s& a, const openvdb::Vec3s& b) {
+  return std::max({maxAbsDifference(a[0], b[0]), maxAbsDifference(a[1], b[1]), maxAbsDifference(a[2], b[2])});
+}
+
+// Same active topology and, at every active voxel, values within `tolerance` (per component).
+template <typename GridT>
+::testing::AssertionResult gridsMatch(const GridT& expected, const GridT& actual, double tolerance) {
+  if (!expected.tree().hasSameTopology(actual.tree()))
+    return ::testing::AssertionFailure() << "grid '" << expected.getName() << "': active topologies differ ("
+                                         << expected.activeVoxelCount() << " vs " << actual.activeVoxelCount()
+                                         << " active voxels)";
+  auto accessor = actual.getConstAccessor();
+  for (auto it = expected.cbeginValueOn(); it; ++it) {
+    const auto a = *it, b = accessor.getValue(it.getCoord());
+    const double difference = maxAbsDifference(a, b);
+    if (!(difference <= tolerance))
+      return ::testing::AssertionFailure() << "grid '" << expected.getName() << "' at " << it.getCoord() << ": "
+                                           << a << " vs " << b;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+}  // namespace vdbappear::test

@@ -1,0 +1,41 @@
+#include "sphere_quadrature.h"
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+
+#include <cmath>
+
+namespace vdbappear::test {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr unsigned kMaxDepth = 12;
+constexpr double kTolerance = 1e-9;
+}  // namespace
+
+Vec3 sphericalDirection(const Frame& frame, double cos_theta, double phi) {
+  const double sin_theta = std::sqrt(std::max(0.0, 1 - cos_theta * cos_theta));
+  return frame.toWorld(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
+}
+
+double integrateCell(const SphereFunction& f, const Frame& frame, double c0, double c1, double p0, double p1) {
+  using Rule = boost::math::quadrature::gauss_kronrod<double, 15>;
+  auto over_phi = [&](double cos_theta) {
+    return Rule::integrate([&](double phi) { return f(sphericalDirection(frame, cos_theta, phi)); }, p0, p1,
+                           kMaxDepth, kTolerance);
+  };
+  return Rule::integrate(over_phi, c0, c1, kMaxDepth, kTolerance);
+}
+
+double integrateSphere(const SphereFunction& f, const SphereGrid& grid) {
+  double sum = 0;
+  for (int i = 0; i < grid.theta_cells; ++i) {
+    const double c0 = -1 + 2.0 * i / grid.theta_cells, c1 = -1 + 2.0 * (i + 1) / grid.theta_cells;
+    for (int j = 0; j < grid.phi_cells; ++j) {
+      const double p0 = 2 * kPi * j / grid.phi_cells, p1 = 2 * kPi * (j + 1) / grid.phi_cells;
+      sum += integrateCell(f, grid.frame, c0, c1, p0, p1);
+    }
+  }
+  return sum;
+}
+
+}  // namespace vdbappear::test
