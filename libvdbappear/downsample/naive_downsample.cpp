@@ -230,7 +230,7 @@ void addLeaf(const typename GridT::Ptr& grid, std::unique_ptr<LeafT>& leaf) {
 }
 
 bool isMultiLobeOrClusterGrid(const std::string& name) {
-  return name.rfind("lobe", 0) == 0 || name == grid_names::kCluster || name == grid_names::kPhaseId;
+  return isLobeGridName(name) || name == grid_names::kCluster || name == grid_names::kPhaseId;
 }
 
 // Grids other than the base grids: pass the phase table through, refuse what cannot be averaged.

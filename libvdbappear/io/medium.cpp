@@ -1,5 +1,7 @@
 #include "libvdbappear/io/medium.h"
 
+#include <regex>
+
 namespace vdbappear {
 
 openvdb::GridCPtrVec Medium::grids() const {
@@ -12,6 +14,11 @@ openvdb::GridCPtrVec Medium::grids() const {
   }
   all.insert(all.end(), other_grids.begin(), other_grids.end());
   return all;
+}
+
+bool isLobeGridName(const std::string& name) {
+  static const std::regex lobe("lobe[0-9]+_(diag|offdiag|fraction|weight)");
+  return std::regex_match(name, lobe);
 }
 
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata) {

@@ -46,6 +46,9 @@ struct Medium {
   openvdb::GridCPtrVec grids() const;
 };
 
+// lobe{j}_diag, lobe{j}_offdiag, lobe{j}_fraction, lobe{j}_weight (j = 0, 1, ...): multi-lobe grids.
+bool isLobeGridName(const std::string& name);
+
 // The constant HG asymmetry stored as file metadata `hg_g` (float or double), if any.
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata);
 

@@ -5,6 +5,7 @@
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/util/error.h"
 
+#include <openvdb/tools/Count.h>
 #include <openvdb/tree/LeafManager.h>
 
 #include <fmt/format.h>
@@ -13,7 +14,6 @@
 #include <cfloat>
 #include <cmath>
 #include <optional>
-#include <regex>
 
 namespace vdbappear {
 
@@ -120,12 +120,13 @@ void checkDensity(const openvdb::FloatGrid& density, const std::string& source) 
   if (density.background() != 0.0f)
     fail(source, density.getName(),
          fmt::format("background is {}, expected 0 (inactive voxels are empty space)", density.background()));
-  if (density.tree().activeVoxelCount() == 0) fail(source, density.getName(), "empty grid (no active voxels)");
   checkValues(density, source, valueRule([](float rho) { return rho >= 0 && rho <= FLT_MAX; },
                                          [](float rho) {
                                            return std::isfinite(rho) ? fmt::format("negative density {}", rho)
                                                                      : std::string("density is NaN or infinite");
                                          }));
+  if (openvdb::tools::minMax(density.tree()).max() <= 0)
+    fail(source, density.getName(), "empty grid (no voxel with density > 0)");
 }
 
 bool albedoOk(const openvdb::Vec3s& a) {
@@ -137,15 +138,12 @@ std::string describeAlbedo(const openvdb::Vec3s& a) {
 
 // Value types the contract requires of a grid name, or nullopt for names it does not define.
 std::optional<std::vector<std::string>> requiredValueTypes(const std::string& name) {
-  static const std::regex lobe_vec3("lobe[0-9]+_(diag|offdiag|weight)");
-  static const std::regex lobe_float("lobe[0-9]+_fraction");
   using Types = std::vector<std::string>;
   if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
   if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
   if (name == grid_names::kCluster || name == grid_names::kPhaseId) return Types{"int32"};
-  if (std::regex_match(name, lobe_vec3)) return Types{"vec3s"};
-  if (std::regex_match(name, lobe_float)) return Types{"float"};
+  if (isLobeGridName(name)) return Types{name.substr(name.rfind('_')) == "_fraction" ? "float" : "vec3s"};
   return std::nullopt;
 }
 
@@ -212,7 +210,9 @@ void checkValuesWhereDense(const Medium& medium, const std::string& source) {
 }
 
 void checkMetadata(const Medium& medium, const std::string& source) {
-  if (auto schema = medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kSchema)) {
+  if (medium.metadata[metadata_names::kSchema]) {  // absent in media from other programs: fine
+    auto schema = medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kSchema);
+    if (!schema) throw MediumError(fmt::format("{}: metadata 'schema' is not an int32", source));
     if (schema->value() > metadata_names::kSchemaVersion)
       throw MediumError(fmt::format("{}: medium schema {} is newer than this build reads (schema {})", source,
                                     schema->value(), metadata_names::kSchemaVersion));
@@ -252,6 +252,9 @@ void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
 void validateAcrossGrids(const Medium& medium, const std::string& source) {
   if (!medium.density) throw MediumError(fmt::format("{}: no grid named '{}'", source, grid_names::kDensity));
   checkMetadata(medium, source);
+  if (!medium.transform().isLinear())
+    fail(source, grid_names::kDensity,
+         fmt::format("its transform ({}) is not linear; media need a linear transform", medium.transform().mapType()));
   for (const auto& grid : medium.grids())
     if (grid->transform() != medium.transform())
       fail(source, grid->getName(), "its transform differs from the density grid's (all grids of a medium share one)");

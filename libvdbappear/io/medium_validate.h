@@ -19,11 +19,12 @@ namespace vdbappear {
 struct Medium;
 
 // What one grid must satisfy on its own: the value type its name requires; finite values;
-// density >= 0 with background 0 and at least one active voxel; albedo in [0,1]; hg_g in (-1,1).
+// density >= 0 with background 0 and at least one voxel > 0; albedo in [0,1]; hg_g in (-1,1).
 // Safe to run as soon as the grid is read, in parallel with reading the others.
 void validateGrid(const openvdb::GridBase& grid, const std::string& source);
 
-// What holds across grids: a density grid exists; all grids share its transform; sggx_offdiag
+// What holds across grids: a density grid exists; all grids share its transform, which is linear;
+// sggx_offdiag
 // comes with sggx_diag; wherever density > 0, the values the tools will use there (active or not
 // in their own grids) are valid: albedo in [0,1], S symmetric positive definite, hg_g in (-1,1);
 // the schema and hg_g metadata are understood.

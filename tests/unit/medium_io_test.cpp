@@ -125,6 +125,18 @@ std::vector<BadMedium> badMedia() {
       {"density_background", [](Medium& m, Grids&, Meta&) { m.density->tree().root().setBackground(1.0f, true); },
        "density", "background is 1"},
       {"empty_density", [](Medium& m, Grids&, Meta&) { m.density->clear(); }, "density", "empty grid"},
+      {"all_zero_density",
+       [](Medium& m, Grids&, Meta&) {
+         for (auto it = m.density->beginValueOn(); it; ++it) it.setValue(0.0f);
+       },
+       "density", "no voxel with density > 0"},
+      {"frustum_transform",
+       [](Medium& m, Grids&, Meta&) {
+         auto frustum = openvdb::math::Transform::createFrustumTransform(
+             openvdb::BBoxd(openvdb::Vec3d(-12), openvdb::Vec3d(12)), 0.5, 2, 1);
+         for (const auto& grid : m.grids()) std::const_pointer_cast<openvdb::GridBase>(grid)->setTransform(frustum);
+       },
+       "density", "not linear"},
       {"albedo_above_one",
        [](Medium& m, Grids&, Meta&) { m.albedo->tree().setValueOn(denseVoxel(m), Vec3s(0.5f, 1.5f, 0.5f)); },
        "albedo", "outside [0,1]"},
@@ -164,6 +176,8 @@ std::vector<BadMedium> badMedia() {
        "lobe0_diag", "expected vec3s"},
       {"schema_too_new", [](Medium&, Grids&, Meta& meta) { meta.insertMeta("schema", openvdb::Int32Metadata(2)); },
        "", "schema 2 is newer"},
+      {"schema_not_int", [](Medium&, Grids&, Meta& meta) { meta.insertMeta("schema", openvdb::StringMetadata("1")); },
+       "", "'schema' is not an int32"},
       {"hg_metadata_out_of_range",
        [](Medium&, Grids&, Meta& meta) { meta.insertMeta("hg_g", openvdb::FloatMetadata(1.0f)); }, "",
        "metadata 'hg_g'"},

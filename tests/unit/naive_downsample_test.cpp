@@ -251,15 +251,19 @@ TEST(NaiveDownsample, OtherGridsArePassedRefusedOrDroppedWithAWarning) {
   auto notes = openvdb::FloatGrid::create(0.0f);
   notes->setName("temperature");
   notes->setTransform(fine->transform().copy());
-  fine->other_grids = {table, notes};
+  auto lobes = openvdb::FloatGrid::create(0.0f);
+  lobes->setName("lobes");  // not a lobe grid of the contract: unknown, so dropped with a warning
+  lobes->setTransform(fine->transform().copy());
+  fine->other_grids = {table, notes, lobes};
   const DownsampleResult result = downsampleNaive(*fine, {2, SggxWeighting::Count});
   ASSERT_EQ(result.medium->other_grids.size(), 1u);
   const auto& passed = static_cast<const openvdb::FloatGrid&>(*result.medium->other_grids[0]);
   EXPECT_EQ(passed.getName(), "phase_table");
   EXPECT_EQ(passed.tree().getValue(Coord(3, 0, 0)), 0.08f) << "the table is not spatial: copied as is";
   EXPECT_EQ(passed.transform(), result.medium->transform());
-  ASSERT_EQ(result.warnings.size(), 1u);
+  ASSERT_EQ(result.warnings.size(), 2u);
   EXPECT_NE(result.warnings[0].find("temperature"), std::string::npos);
+  EXPECT_NE(result.warnings[1].find("lobes"), std::string::npos);
 
   auto lobe = openvdb::Vec3SGrid::create();
   lobe->setName("lobe0_diag");
