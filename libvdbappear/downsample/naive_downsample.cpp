@@ -2,6 +2,7 @@
 
 #include "libvdbappear/downsample/coarse_transform.h"
 #include "libvdbappear/io/leaf_values.h"
+#include "libvdbappear/io/medium_block.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
@@ -11,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstring>
 #include <array>
 #include <memory>
 #include <optional>
@@ -23,7 +25,6 @@ using openvdb::Coord;
 using openvdb::Index;
 using openvdb::Vec3s;
 using FloatLeaf = openvdb::FloatTree::LeafNodeType;
-using Vec3sLeaf = openvdb::Vec3STree::LeafNodeType;
 
 constexpr int kLeafDim = FloatLeaf::DIM;          // 8 voxels per leaf edge
 constexpr Index kLeafVoxels = FloatLeaf::SIZE;    // 512
@@ -41,7 +42,7 @@ struct CoarseLeafSums {
   std::array<double, kLeafVoxels> g_scatter{}, scatter{};     // sum sigma_s * g, sum sigma_s
   std::array<double, kLeafVoxels> g_density{};                // sum rho * g
 
-  void clear() { *this = CoarseLeafSums(); }
+  void clear() { std::memset(static_cast<void*>(this), 0, sizeof(*this)); }  // all doubles: zero bits are 0.0
 };
 
 class NaiveDownsampler {
@@ -62,13 +63,9 @@ class NaiveDownsampler {
   };
   Accessors accessors() const;
 
-  // One coarse leaf at `origin`: returns false when none of its voxels is active.
-  struct CoarseLeaves {
-    std::unique_ptr<FloatLeaf> density;
-    std::unique_ptr<Vec3sLeaf> albedo, sggx_diag, sggx_offdiag;
-    std::unique_ptr<FloatLeaf> hg_g;
-  };
-  bool buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums, CoarseLeaves& out) const;
+  // One coarse leaf at `origin`, built into `out` (left empty when none of its voxels is active).
+  void buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums, const Medium& coarse,
+                 MediumBlock& out) const;
 
  private:
   void accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
@@ -76,7 +73,7 @@ class NaiveDownsampler {
   void accumulateVoxel(Index fine_offset, float rho, Index coarse_offset, const LeafValues<openvdb::Vec3STree>* albedo,
                        const LeafValues<openvdb::Vec3STree>* diag, const LeafValues<openvdb::Vec3STree>* offdiag,
                        const LeafValues<openvdb::FloatTree>* hg_g, CoarseLeafSums& sums) const;
-  bool finish(const Coord& origin, const CoarseLeafSums& sums, CoarseLeaves& out) const;
+  void finish(const Coord& origin, const CoarseLeafSums& sums, const Medium& coarse, MediumBlock& out) const;
 
   const Medium& fine_;
   int factor_;
@@ -115,15 +112,15 @@ NaiveDownsampler::Accessors NaiveDownsampler::accessors() const {
   return acc;
 }
 
-bool NaiveDownsampler::buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums,
-                                 CoarseLeaves& out) const {
+void NaiveDownsampler::buildLeaf(const Coord& origin, Accessors& acc, CoarseLeafSums& sums, const Medium& coarse,
+                                 MediumBlock& out) const {
   sums.clear();
   const Coord fine_origin = scaled(origin, factor_);  // a multiple of 8: exactly F^3 fine leaves
   for (int a = 0; a < factor_; ++a)
     for (int b = 0; b < factor_; ++b)
       for (int c = 0; c < factor_; ++c)
         accumulateBlock(acc, fine_origin + scaled(Coord(a, b, c), kLeafDim), Coord(a, b, c), sums);
-  return finish(origin, sums, out);
+  finish(origin, sums, coarse, out);
 }
 
 void NaiveDownsampler::accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
@@ -182,51 +179,22 @@ void NaiveDownsampler::accumulateVoxel(Index n, float rho, Index coarse, const L
   }
 }
 
-bool NaiveDownsampler::finish(const Coord& origin, const CoarseLeafSums& sums, CoarseLeaves& out) const {
+void NaiveDownsampler::finish(const Coord& origin, const CoarseLeafSums& sums, const Medium& coarse,
+                              MediumBlock& out) const {
   const double children = double(factor_) * factor_ * factor_;
-  bool any = false;
   for (Index n = 0; n < kLeafVoxels; ++n) {
     const double rho_sum = sums.density[n];
     if (rho_sum <= 0) continue;
-    if (!any) {
-      any = true;
-      out.density = std::make_unique<FloatLeaf>(origin, 0.0f);
-      if (fine_.albedo) out.albedo = std::make_unique<Vec3sLeaf>(origin, fine_.albedo->background());
-      if (fine_.sggx_diag) out.sggx_diag = std::make_unique<Vec3sLeaf>(origin, fine_.sggx_diag->background());
-      if (fine_.sggx_offdiag) out.sggx_offdiag = std::make_unique<Vec3sLeaf>(origin, fine_.sggx_offdiag->background());
-      if (fine_.hg_g) out.hg_g = std::make_unique<FloatLeaf>(origin, fine_.hg_g->background());
-    }
-    out.density->setValueOn(n, float(rho_sum / children));  // Eq. (6), left
-    if (out.albedo) {                                         // Eq. (6), right
-      const auto& a = sums.albedo[n];
-      out.albedo->setValueOn(n, Vec3s(float(a[0] / rho_sum), float(a[1] / rho_sum), float(a[2] / rho_sum)));
-    }
-    if (out.sggx_diag) {  // Eq. (5)
-      const auto& S = sums.S[n];
-      const double w = sums.S_weight[n];
-      out.sggx_diag->setValueOn(n, Vec3s(float(S[0] / w), float(S[1] / w), float(S[2] / w)));
-      if (out.sggx_offdiag) out.sggx_offdiag->setValueOn(n, Vec3s(float(S[3] / w), float(S[4] / w), float(S[5] / w)));
-    }
-    if (out.hg_g) {
-      const double g = sums.scatter[n] > 0 ? sums.g_scatter[n] / sums.scatter[n] : sums.g_density[n] / rho_sum;
-      out.hg_g->setValueOn(n, float(g));
-    }
+    if (out.empty()) out.allocate(coarse, origin);
+    const auto& a = sums.albedo[n];
+    const auto& S = sums.S[n];
+    const double w = sums.S_weight[n];
+    const double g = sums.scatter[n] > 0 ? sums.g_scatter[n] / sums.scatter[n] : sums.g_density[n] / rho_sum;
+    out.setVoxel(n, float(rho_sum / children),                                                          // Eq. (6), left
+                 Vec3s(float(a[0] / rho_sum), float(a[1] / rho_sum), float(a[2] / rho_sum)),            // Eq. (6), right
+                 w > 0 ? Vec3s(float(S[0] / w), float(S[1] / w), float(S[2] / w)) : Vec3s(1.0f),        // Eq. (5)
+                 w > 0 ? Vec3s(float(S[3] / w), float(S[4] / w), float(S[5] / w)) : Vec3s(0.0f), float(g));
   }
-  return any;
-}
-
-template <typename GridT>
-typename GridT::Ptr emptyLike(const GridT& fine, const openvdb::math::Transform::Ptr& transform) {
-  auto grid = GridT::create(fine.background());
-  grid->setName(fine.getName());
-  grid->setGridClass(fine.getGridClass());
-  grid->setTransform(transform);
-  return grid;
-}
-
-template <typename GridT, typename LeafT>
-void addLeaf(const typename GridT::Ptr& grid, std::unique_ptr<LeafT>& leaf) {
-  if (grid && leaf) grid->tree().addLeaf(leaf.release());
 }
 
 bool isMultiLobeOrClusterGrid(const std::string& name) {
@@ -261,34 +229,23 @@ DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& op
   const auto transform = coarseTransform(fine.transform(), options.factor, fine.source);
 
   DownsampleResult result;
-  auto coarse = std::make_shared<Medium>();
+  const MediumPtr coarse = makeEmptyMedium({bool(fine.albedo), fine.hasSggx(), bool(fine.hg_g)}, transform);
   coarse->metadata = fine.metadata;
   coarse->source = fine.source;
   carryOtherGrids(fine, transform, *coarse, result.warnings);
-  coarse->density = emptyLike(*fine.density, transform);
-  if (fine.albedo) coarse->albedo = emptyLike(*fine.albedo, transform);
-  if (fine.sggx_diag) coarse->sggx_diag = emptyLike(*fine.sggx_diag, transform);
-  if (fine.sggx_offdiag) coarse->sggx_offdiag = emptyLike(*fine.sggx_offdiag, transform);
-  if (fine.hg_g) coarse->hg_g = emptyLike(*fine.hg_g, transform);
 
   const NaiveDownsampler downsampler(fine, options);
   const std::vector<Coord> origins = downsampler.coarseLeafOrigins();
-  std::vector<NaiveDownsampler::CoarseLeaves> leaves(origins.size());
+  std::vector<MediumBlock> leaves(origins.size());
   if (progress) progress->setTotal(origins.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
     auto sums = std::make_unique<CoarseLeafSums>();
     auto accessors = downsampler.accessors();
     for (std::size_t i = range.begin(); i != range.end(); ++i)
-      downsampler.buildLeaf(origins[i], accessors, *sums, leaves[i]);
+      downsampler.buildLeaf(origins[i], accessors, *sums, *coarse, leaves[i]);
     if (progress) progress->advance(range.size());
   });
-  for (auto& leaf : leaves) {  // adding leaves to a tree is serial, and cheap
-    addLeaf<openvdb::FloatGrid>(coarse->density, leaf.density);
-    addLeaf<openvdb::Vec3SGrid>(coarse->albedo, leaf.albedo);
-    addLeaf<openvdb::Vec3SGrid>(coarse->sggx_diag, leaf.sggx_diag);
-    addLeaf<openvdb::Vec3SGrid>(coarse->sggx_offdiag, leaf.sggx_offdiag);
-    addLeaf<openvdb::FloatGrid>(coarse->hg_g, leaf.hg_g);
-  }
+  for (auto& leaf : leaves) leaf.adoptInto(*coarse);
   result.medium = coarse;
   return result;
 }
