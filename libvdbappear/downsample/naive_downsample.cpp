@@ -12,8 +12,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstring>
 #include <array>
+#include <cstring>
 #include <memory>
 #include <optional>
 
@@ -45,6 +45,14 @@ struct CoarseLeafSums {
   void clear() { std::memset(static_cast<void*>(this), 0, sizeof(*this)); }  // all doubles: zero bits are 0.0
 };
 
+// The fine values of one 8^3 block, every base grid; absent grids read as the contract's defaults
+// (albedo 1, S = I, g = 0): their sums are computed but not written.
+struct FineBlock {
+  LeafValues<openvdb::FloatTree> density;
+  LeafValues<openvdb::Vec3STree> albedo, sggx_diag, sggx_offdiag;
+  LeafValues<openvdb::FloatTree> hg_g;
+};
+
 class NaiveDownsampler {
  public:
   NaiveDownsampler(const Medium& fine, const DownsampleOptions& options)
@@ -68,11 +76,10 @@ class NaiveDownsampler {
                  MediumBlock& out) const;
 
  private:
+  static FineBlock fineBlock(Accessors& acc, const Coord& origin);
   void accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
                        CoarseLeafSums& sums) const;
-  void accumulateVoxel(Index fine_offset, float rho, Index coarse_offset, const LeafValues<openvdb::Vec3STree>* albedo,
-                       const LeafValues<openvdb::Vec3STree>* diag, const LeafValues<openvdb::Vec3STree>* offdiag,
-                       const LeafValues<openvdb::FloatTree>* hg_g, CoarseLeafSums& sums) const;
+  void accumulateVoxel(const FineBlock& fine, Index n, float rho, Index coarse, CoarseLeafSums& sums) const;
   void finish(const Coord& origin, const CoarseLeafSums& sums, const Medium& coarse, MediumBlock& out) const;
 
   const Medium& fine_;
@@ -123,60 +130,51 @@ void NaiveDownsampler::buildLeaf(const Coord& origin, Accessors& acc, CoarseLeaf
   finish(origin, sums, coarse, out);
 }
 
+FineBlock NaiveDownsampler::fineBlock(Accessors& acc, const Coord& origin) {
+  using V1 = LeafValues<openvdb::FloatTree>;
+  using V3 = LeafValues<openvdb::Vec3STree>;
+  return {V1(acc.density, origin), acc.albedo ? V3(*acc.albedo, origin) : V3(Vec3s(1.0f)),
+          acc.sggx_diag ? V3(*acc.sggx_diag, origin) : V3(Vec3s(1.0f)),
+          acc.sggx_offdiag ? V3(*acc.sggx_offdiag, origin) : V3(Vec3s(0.0f)),
+          acc.hg_g ? V1(*acc.hg_g, origin) : V1(0.0f)};
+}
+
 void NaiveDownsampler::accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
                                        CoarseLeafSums& sums) const {
-  const LeafValues<openvdb::FloatTree> density(acc.density, fine_origin);
-  if (density.empty()) return;
-
-  std::optional<LeafValues<openvdb::Vec3STree>> albedo, diag, offdiag;
-  std::optional<LeafValues<openvdb::FloatTree>> hg_g;
-  if (acc.albedo) albedo.emplace(*acc.albedo, fine_origin);
-  if (acc.sggx_diag) diag.emplace(*acc.sggx_diag, fine_origin);
-  if (acc.sggx_offdiag) offdiag.emplace(*acc.sggx_offdiag, fine_origin);
-  if (acc.hg_g) hg_g.emplace(*acc.hg_g, fine_origin);
-
+  if (LeafValues<openvdb::FloatTree>(acc.density, fine_origin).empty()) return;
+  const FineBlock fine = fineBlock(acc, fine_origin);
   const int* to_coarse_x = &coarse_local_[block_index.x() * kLeafDim];
   const int* to_coarse_y = &coarse_local_[block_index.y() * kLeafDim];
   const int* to_coarse_z = &coarse_local_[block_index.z() * kLeafDim];
   auto visit = [&](Index n, float rho) {
-    const Index coarse = FloatLeaf::coordToOffset(
-        Coord(to_coarse_x[n >> 6], to_coarse_y[(n >> 3) & 7], to_coarse_z[n & 7]));
-    accumulateVoxel(n, rho, coarse, albedo ? &*albedo : nullptr, diag ? &*diag : nullptr,
-                    offdiag ? &*offdiag : nullptr, hg_g ? &*hg_g : nullptr, sums);
+    const Index coarse =
+        FloatLeaf::coordToOffset(Coord(to_coarse_x[n >> 6], to_coarse_y[(n >> 3) & 7], to_coarse_z[n & 7]));
+    accumulateVoxel(fine, n, rho, coarse, sums);
   };
-  if (density.leaf()) {
-    for (auto it = density.leaf()->cbeginValueOn(); it; ++it) visit(it.pos(), *it);
+  if (const FloatLeaf* leaf = fine.density.leaf()) {
+    for (auto it = leaf->cbeginValueOn(); it; ++it) visit(it.pos(), *it);
   } else {  // an active tile covers the block
-    for (Index n = 0; n < kLeafVoxels; ++n) visit(n, density.constant());
+    for (Index n = 0; n < kLeafVoxels; ++n) visit(n, fine.density.constant());
   }
 }
 
-void NaiveDownsampler::accumulateVoxel(Index n, float rho, Index coarse, const LeafValues<openvdb::Vec3STree>* albedo,
-                                       const LeafValues<openvdb::Vec3STree>* diag,
-                                       const LeafValues<openvdb::Vec3STree>* offdiag,
-                                       const LeafValues<openvdb::FloatTree>* hg_g, CoarseLeafSums& sums) const {
+void NaiveDownsampler::accumulateVoxel(const FineBlock& fine, Index n, float rho, Index coarse,
+                                       CoarseLeafSums& sums) const {
   if (rho <= 0) return;  // empty children count as 0 in every sum
   sums.density[coarse] += rho;
-  const Vec3s a = albedo ? (*albedo)[n] : Vec3s(1.0f);
-  for (int c = 0; c < 3; ++c) sums.albedo[coarse][c] += double(rho) * a[c];
-  if (diag) {
-    const double w = weighting_ == SggxWeighting::Count ? 1.0 : double(rho);
-    const Vec3s d = (*diag)[n];
-    const Vec3s o = offdiag ? (*offdiag)[n] : Vec3s(0.0f);
-    auto& S = sums.S[coarse];
-    for (int c = 0; c < 3; ++c) {
-      S[c] += w * d[c];
-      S[3 + c] += w * o[c];
-    }
-    sums.S_weight[coarse] += w;
+  const Vec3s a = fine.albedo[n], d = fine.sggx_diag[n], o = fine.sggx_offdiag[n];
+  const double w = weighting_ == SggxWeighting::Count ? 1.0 : double(rho);
+  auto& S = sums.S[coarse];
+  for (int c = 0; c < 3; ++c) {
+    sums.albedo[coarse][c] += double(rho) * a[c];
+    S[c] += w * d[c];
+    S[3 + c] += w * o[c];
   }
-  if (hg_g) {
-    const double g = (*hg_g)[n];
-    const double sigma_s = double(rho) * (double(a[0]) + a[1] + a[2]) / 3;
-    sums.g_scatter[coarse] += sigma_s * g;
-    sums.scatter[coarse] += sigma_s;
-    sums.g_density[coarse] += double(rho) * g;
-  }
+  sums.S_weight[coarse] += w;
+  const double g = fine.hg_g[n], sigma_s = double(rho) * (double(a[0]) + a[1] + a[2]) / 3;
+  sums.g_scatter[coarse] += sigma_s * g;
+  sums.scatter[coarse] += sigma_s;
+  sums.g_density[coarse] += double(rho) * g;
 }
 
 void NaiveDownsampler::finish(const Coord& origin, const CoarseLeafSums& sums, const Medium& coarse,
@@ -192,8 +190,8 @@ void NaiveDownsampler::finish(const Coord& origin, const CoarseLeafSums& sums, c
     const double g = sums.scatter[n] > 0 ? sums.g_scatter[n] / sums.scatter[n] : sums.g_density[n] / rho_sum;
     out.setVoxel(n, float(rho_sum / children),                                                          // Eq. (6), left
                  Vec3s(float(a[0] / rho_sum), float(a[1] / rho_sum), float(a[2] / rho_sum)),            // Eq. (6), right
-                 w > 0 ? Vec3s(float(S[0] / w), float(S[1] / w), float(S[2] / w)) : Vec3s(1.0f),        // Eq. (5)
-                 w > 0 ? Vec3s(float(S[3] / w), float(S[4] / w), float(S[5] / w)) : Vec3s(0.0f), float(g));
+                 Vec3s(float(S[0] / w), float(S[1] / w), float(S[2] / w)),                              // Eq. (5)
+                 Vec3s(float(S[3] / w), float(S[4] / w), float(S[5] / w)), float(g));
   }
 }
 
