@@ -68,6 +68,7 @@ int make(const Options& options, const std::string& history) {
   const auto kind = kinds().find(options.kind);
   if (kind == kinds().end()) throw std::runtime_error(fmt::format("unknown kind '{}' (see --list)", options.kind));
   if (options.output.empty()) throw std::runtime_error("no output: give -o OUT (- for stdout)");
+  checkWritable(options.output);
   Stopwatch clock;
   const MediumPtr medium = kind->second.make(options);
   const double make_seconds = clock.lap();

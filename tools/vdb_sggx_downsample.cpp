@@ -47,6 +47,7 @@ nlohmann::json summaryJson(const MediumSummary& s, const std::string& path) {
 }
 
 int downsample(const Options& options, const std::string& history) {
+  checkWritable(options.output);
   Stopwatch clock;
   const MediumPtr fine = readMedium(options.input);
   const double read_seconds = clock.lap();

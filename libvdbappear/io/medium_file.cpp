@@ -197,6 +197,19 @@ void writeMedium(const Medium& medium, const std::string& path, const std::strin
   output.commit();
 }
 
+void checkWritable(const std::string& path) {
+  if (path == kStdio) {
+    if (isatty(STDOUT_FILENO)) throw MediumError("stdout: is a terminal; redirect or pipe the VDB stream");
+    return;
+  }
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
+  const std::filesystem::path folder = std::filesystem::absolute(path).parent_path();
+  if (!std::filesystem::is_directory(folder, error))
+    throw MediumError(fmt::format("{}: no such folder '{}'", path, folder.string()));
+  if (access(folder.c_str(), W_OK) != 0) throw MediumError(fmt::format("{}: folder is not writable", path));
+}
+
 std::string historyLine(const std::string& tool, int argc, const char* const* argv) {
   std::string line = fmt::format("{} {}:", tool, kVersion);
   for (int i = 0; i < argc; ++i) line += " " + shellQuote(i == 0 ? tool : argv[i]);

@@ -21,6 +21,10 @@ MediumPtr readMedium(const std::string& path);
 // either the old file or the whole new one. path "-" writes a VDB stream to stdout.
 void writeMedium(const Medium& medium, const std::string& path, const std::string& history_line);
 
+// Fails early (MediumError) when `path` could not be written: stdout ("-") is a terminal, the folder
+// does not exist or is not writable, or the path is a folder. Tools call it before any work.
+void checkWritable(const std::string& path);
+
 // "vdb_tool 0.1.0: vdb_tool --flag value IN OUT", arguments shell-quoted where needed.
 std::string historyLine(const std::string& tool, int argc, const char* const* argv);
 

@@ -28,13 +28,14 @@ void ProgressBar::advance(std::uint64_t steps) {
 void ProgressBar::finish() {
   if (!enabled_ || finished_) return;
   std::lock_guard lock(draw_mutex_);
-  draw(done_.load());
+  if (drawn_ != done_.load()) draw(done_.load());
   std::fputc('\n', stderr);
   finished_ = true;
 }
 
 void ProgressBar::draw(std::uint64_t done) {
   constexpr int kWidth = 30;
+  drawn_ = done;
   const double fraction = total_ ? std::min(1.0, double(done) / double(total_)) : 1.0;
   const int filled = int(fraction * kWidth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

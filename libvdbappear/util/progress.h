@@ -31,6 +31,7 @@ class ProgressBar {
   bool enabled_;
   bool finished_ = false;
   std::atomic<std::uint64_t> done_{0};
+  std::uint64_t drawn_ = ~std::uint64_t(0);  // steps shown by the last draw
   std::mutex draw_mutex_;
   std::chrono::steady_clock::time_point start_, last_draw_;
 };

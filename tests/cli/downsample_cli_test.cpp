@@ -72,6 +72,17 @@ TEST(DownsampleCli, MissingInputIsOneErrorLineAndNoOutput) {
   EXPECT_FALSE(exists(out));
 }
 
+TEST(DownsampleCli, UnwritableOutputFailsBeforeAnyWork) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir), out = dir.path("missing/out.vdb");
+  auto r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err, "vdb_sggx_downsample: error: " + out + ": no such folder '" + dir.path("missing") + "'\n");
+  r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(dir.root().string()));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("is a directory"), std::string::npos) << r.err;
+}
+
 TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
   TempDir dir;
   RandomMediumParams p;
