@@ -76,7 +76,7 @@ class NaiveDownsampler {
                  MediumBlock& out) const;
 
  private:
-  static FineBlock fineBlock(Accessors& acc, const Coord& origin);
+  static FineBlock fineBlock(Accessors& acc, const Coord& origin, const LeafValues<openvdb::FloatTree>& density);
   void accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
                        CoarseLeafSums& sums) const;
   void accumulateVoxel(const FineBlock& fine, Index n, float rho, Index coarse, CoarseLeafSums& sums) const;
@@ -85,7 +85,7 @@ class NaiveDownsampler {
   const Medium& fine_;
   int factor_;
   SggxWeighting weighting_;
-  std::array<int, kLeafDim * 64> coarse_local_{};  // fine local coordinate in the coarse leaf's span -> coarse
+  std::array<int, kLeafDim * kMaxDownsampleFactor> coarse_local_{};  // fine coordinate in a coarse leaf -> coarse
 };
 
 std::vector<Coord> NaiveDownsampler::coarseLeafOrigins() const {
@@ -130,19 +130,21 @@ void NaiveDownsampler::buildLeaf(const Coord& origin, Accessors& acc, CoarseLeaf
   finish(origin, sums, coarse, out);
 }
 
-FineBlock NaiveDownsampler::fineBlock(Accessors& acc, const Coord& origin) {
+FineBlock NaiveDownsampler::fineBlock(Accessors& acc, const Coord& origin,
+                                      const LeafValues<openvdb::FloatTree>& density) {
   using V1 = LeafValues<openvdb::FloatTree>;
   using V3 = LeafValues<openvdb::Vec3STree>;
-  return {V1(acc.density, origin), acc.albedo ? V3(*acc.albedo, origin) : V3(Vec3s(1.0f)),
-          acc.sggx_diag ? V3(*acc.sggx_diag, origin) : V3(Vec3s(1.0f)),
-          acc.sggx_offdiag ? V3(*acc.sggx_offdiag, origin) : V3(Vec3s(0.0f)),
-          acc.hg_g ? V1(*acc.hg_g, origin) : V1(0.0f)};
+  return {density, acc.albedo ? V3(*acc.albedo, origin) : V3(defaults::kAlbedo),
+          acc.sggx_diag ? V3(*acc.sggx_diag, origin) : V3(defaults::kSggxDiag),
+          acc.sggx_offdiag ? V3(*acc.sggx_offdiag, origin) : V3(defaults::kSggxOffdiag),
+          acc.hg_g ? V1(*acc.hg_g, origin) : V1(defaults::kHgG)};
 }
 
 void NaiveDownsampler::accumulateBlock(Accessors& acc, const Coord& fine_origin, const Coord& block_index,
                                        CoarseLeafSums& sums) const {
-  if (LeafValues<openvdb::FloatTree>(acc.density, fine_origin).empty()) return;
-  const FineBlock fine = fineBlock(acc, fine_origin);
+  const LeafValues<openvdb::FloatTree> density(acc.density, fine_origin);
+  if (density.empty()) return;
+  const FineBlock fine = fineBlock(acc, fine_origin, density);
   const int* to_coarse_x = &coarse_local_[block_index.x() * kLeafDim];
   const int* to_coarse_y = &coarse_local_[block_index.y() * kLeafDim];
   const int* to_coarse_z = &coarse_local_[block_index.z() * kLeafDim];
@@ -222,8 +224,8 @@ void carryOtherGrids(const Medium& fine, const openvdb::math::Transform::Ptr& tr
 }  // namespace
 
 DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& options, ProgressBar* progress) {
-  if (options.factor < 2 || options.factor > 64)
-    throw MediumError(fmt::format("downsampling factor {} outside 2..64", options.factor));
+  if (options.factor < 2 || options.factor > kMaxDownsampleFactor)
+    throw std::invalid_argument(fmt::format("downsampling factor {} outside 2..{}", options.factor, kMaxDownsampleFactor));
   const auto transform = coarseTransform(fine.transform(), options.factor, fine.source);
 
   DownsampleResult result;

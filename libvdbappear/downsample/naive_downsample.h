@@ -17,8 +17,10 @@ enum class SggxWeighting {
   Density,  // mean weighted by the children's density (commutes with chaining F = a then b)
 };
 
+inline constexpr int kMaxDownsampleFactor = 64;
+
 struct DownsampleOptions {
-  int factor = 2;  // F >= 2: output voxel I holds input voxels F*I .. F*I+F-1 on each axis
+  int factor = 2;  // 2 <= F <= kMaxDownsampleFactor: output voxel I holds input voxels F*I .. F*I+F-1 per axis
   SggxWeighting s_weighting = SggxWeighting::Count;
 };
 

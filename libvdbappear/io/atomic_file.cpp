@@ -7,32 +7,29 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
-#include <sys/stat.h>
+#include <random>
 #include <unistd.h>
-#include <vector>
 
 namespace vdbappear {
 
-namespace {
-mode_t defaultFileMode() {
-  const mode_t mask = umask(0);
-  umask(mask);
-  return 0666 & ~mask;
-}
-}  // namespace
-
 AtomicFile::AtomicFile(std::string target) : target_(std::move(target)) {
   const std::filesystem::path path(target_);
-  if (std::filesystem::is_directory(path)) throw MediumError(fmt::format("{}: is a directory", target_));
-  std::string pattern = (path.parent_path() / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
-  std::vector<char> name(pattern.begin(), pattern.end());
-  name.push_back('\0');
-  const int fd = mkstemp(name.data());
-  if (fd < 0) throw MediumError(fmt::format("{}: cannot create the output file: {}", target_, std::strerror(errno)));
-  fchmod(fd, defaultFileMode());
-  close(fd);
-  temporary_ = name.data();
+  std::random_device entropy;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string name = fmt::format(".{}.tmp.{:08x}", path.filename().string(), entropy());
+    const std::string candidate = (path.parent_path() / name).string();
+    // Mode 0666: the kernel applies the umask, as for any new file.
+    const int fd = open(candidate.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      close(fd);
+      temporary_ = candidate;
+      return;
+    }
+    if (errno != EEXIST) break;
+  }
+  throw MediumError(fmt::format("{}: cannot create the output file: {}", target_, std::strerror(errno)));
 }
 
 AtomicFile::~AtomicFile() {

@@ -22,6 +22,14 @@ inline constexpr const char* kPhaseId = "phase_id";
 inline constexpr const char* kPhaseTable = "phase_table";
 }  // namespace grid_names
 
+// Values of the base grids where a medium has no such grid (docs/medium.md, section 3).
+namespace defaults {
+inline const openvdb::Vec3s kAlbedo(1.0f);
+inline const openvdb::Vec3s kSggxDiag(1.0f);     // S = I: isotropic flakes
+inline const openvdb::Vec3s kSggxOffdiag(0.0f);
+inline constexpr float kHgG = 0.0f;
+}  // namespace defaults
+
 namespace metadata_names {
 inline constexpr const char* kSchema = "schema";
 inline constexpr const char* kHistory = "history";

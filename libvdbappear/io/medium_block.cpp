@@ -27,16 +27,15 @@ void adopt(const GridPtrT& grid, std::unique_ptr<LeafT>& leaf) {
 }  // namespace
 
 MediumPtr makeEmptyMedium(const BaseGrids& grids, const openvdb::math::Transform::Ptr& transform) {
-  using openvdb::Vec3s;
   auto medium = std::make_shared<Medium>();
   medium->density = makeGrid<openvdb::FloatGrid>(grid_names::kDensity, 0.0f, transform);
   medium->density->setGridClass(openvdb::GRID_FOG_VOLUME);
-  if (grids.albedo) medium->albedo = makeGrid<openvdb::Vec3SGrid>(grid_names::kAlbedo, Vec3s(1.0f), transform);
+  if (grids.albedo) medium->albedo = makeGrid<openvdb::Vec3SGrid>(grid_names::kAlbedo, defaults::kAlbedo, transform);
   if (grids.sggx) {
-    medium->sggx_diag = makeGrid<openvdb::Vec3SGrid>(grid_names::kSggxDiag, Vec3s(1.0f), transform);
-    medium->sggx_offdiag = makeGrid<openvdb::Vec3SGrid>(grid_names::kSggxOffdiag, Vec3s(0.0f), transform);
+    medium->sggx_diag = makeGrid<openvdb::Vec3SGrid>(grid_names::kSggxDiag, defaults::kSggxDiag, transform);
+    medium->sggx_offdiag = makeGrid<openvdb::Vec3SGrid>(grid_names::kSggxOffdiag, defaults::kSggxOffdiag, transform);
   }
-  if (grids.hg_g) medium->hg_g = makeGrid<openvdb::FloatGrid>(grid_names::kHgG, 0.0f, transform);
+  if (grids.hg_g) medium->hg_g = makeGrid<openvdb::FloatGrid>(grid_names::kHgG, defaults::kHgG, transform);
   medium->metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
   return medium;
 }

@@ -4,7 +4,6 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/util/error.h"
-#include "libvdbappear/version.h"
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/tree/LeafManager.h>
@@ -15,6 +14,7 @@
 #include <algorithm>
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <unistd.h>
 
@@ -32,6 +32,15 @@ struct VdbContents {
 // Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
 // is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first by
 // name is reported.
+// Every grid has a name, and no name appears twice.
+void checkGridNames(std::vector<std::string> names, const std::string& source) {
+  std::sort(names.begin(), names.end());
+  if (!names.empty() && names.front().empty()) throw MediumError(fmt::format("{}: a grid has no name", source));
+  const auto repeated = std::adjacent_find(names.begin(), names.end());
+  if (repeated != names.end())
+    throw MediumError(fmt::format("{}: grid '{}': appears more than once", source, *repeated));
+}
+
 VdbContents readVdbFile(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
@@ -46,11 +55,10 @@ VdbContents readVdbFile(const std::string& path) {
   } catch (const std::exception& e) {
     throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, e.what()));
   }
-  for (const auto& name : names) {  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
-    using openvdb::io::GridDescriptor;
-    const std::string base = GridDescriptor::stripSuffix(GridDescriptor::stringAsUniqueName(name));
-    if (base != name) throw MediumError(fmt::format("{}: grid '{}': appears more than once", path, base));
-  }
+  std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
+  for (const auto& name : names)
+    base_names.push_back(openvdb::io::GridDescriptor::stripSuffix(openvdb::io::GridDescriptor::stringAsUniqueName(name)));
+  checkGridNames(base_names, path);
 
   contents.grids.resize(names.size());
   std::vector<std::exception_ptr> failures(names.size());
@@ -75,13 +83,31 @@ VdbContents readVdbFile(const std::string& path) {
 
 VdbContents readVdbStdin() {
   if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
+  VdbContents contents;
   try {
     openvdb::io::Stream stream(std::cin, /*delayLoad=*/false);
-    return {*stream.getGrids(), stream.getMetadata()};
+    contents = {*stream.getGrids(), stream.getMetadata()};
   } catch (const std::exception& e) {
     throw MediumError(fmt::format("stdin: not a readable VDB stream ({})", e.what()));
   }
+  std::vector<std::string> names;
+  for (const auto& grid : contents.grids) names.push_back(grid->getName());
+  checkGridNames(names, "stdin");
+  return contents;
 }
+
+// io::File's writer on a stream of our own, so that a failed write (a full disk) is noticed
+// instead of a truncated file being renamed into place.
+class CheckedFileWriter : public openvdb::io::Archive {
+ public:
+  void writeFile(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    if (!file) throw MediumError(fmt::format("{}: cannot open for writing", path));
+    Archive::write(file, grids, /*seekable=*/true, metadata);
+    file.close();
+    if (!file) throw MediumError(fmt::format("{}: write failed (disk full?)", path));
+  }
+};
 
 // A grey albedo (FloatGrid) as RGB: the same topology, each value repeated in three channels.
 openvdb::Vec3SGrid::Ptr greyToRgb(const openvdb::FloatGrid& grey) {
@@ -109,12 +135,6 @@ typename GridT::Ptr typedGrid(const openvdb::GridBase::Ptr& grid, const std::str
   return typed;
 }
 
-template <typename GridPtrT>
-void assignOnce(GridPtrT& slot, GridPtrT grid, const std::string& source) {
-  if (slot) throw MediumError(fmt::format("{}: grid '{}': appears twice", source, grid->getName()));
-  slot = std::move(grid);
-}
-
 MediumPtr toMedium(VdbContents contents, const std::string& source) {
   namespace names = grid_names;
   auto medium = std::make_shared<Medium>();
@@ -122,31 +142,22 @@ MediumPtr toMedium(VdbContents contents, const std::string& source) {
   if (contents.metadata) medium->metadata = *contents.metadata;
   for (auto& grid : contents.grids) {
     const std::string name = grid->getName();
-    if (name == names::kDensity) {
-      assignOnce(medium->density, typedGrid<openvdb::FloatGrid>(grid, source), source);
+    if (name == names::kDensity) {  // names are unique: checked when read
+      medium->density = typedGrid<openvdb::FloatGrid>(grid, source);
     } else if (name == names::kAlbedo) {
       auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
-      assignOnce(medium->albedo, grey ? greyToRgb(*grey) : typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+      medium->albedo = grey ? greyToRgb(*grey) : typedGrid<openvdb::Vec3SGrid>(grid, source);
     } else if (name == names::kSggxDiag) {
-      assignOnce(medium->sggx_diag, typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+      medium->sggx_diag = typedGrid<openvdb::Vec3SGrid>(grid, source);
     } else if (name == names::kSggxOffdiag) {
-      assignOnce(medium->sggx_offdiag, typedGrid<openvdb::Vec3SGrid>(grid, source), source);
+      medium->sggx_offdiag = typedGrid<openvdb::Vec3SGrid>(grid, source);
     } else if (name == names::kHgG) {
-      assignOnce(medium->hg_g, typedGrid<openvdb::FloatGrid>(grid, source), source);
+      medium->hg_g = typedGrid<openvdb::FloatGrid>(grid, source);
     } else {
       medium->other_grids.push_back(grid);
     }
   }
   return medium;
-}
-
-std::string shellQuote(const std::string& arg) {
-  if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
-                                            "@%+=:,./-_") == std::string::npos)
-    return arg;
-  std::string quoted = "'";
-  for (char c : arg) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
 }
 
 }  // namespace
@@ -165,38 +176,6 @@ MediumPtr readMedium(const std::string& path) {
   return medium;
 }
 
-void writeMedium(const Medium& medium, const std::string& path, const std::string& history_line) {
-  openvdb::initialize();
-  openvdb::MetaMap metadata = medium.metadata;
-  std::string history;
-  if (auto previous = metadata.getMetadata<openvdb::StringMetadata>(metadata_names::kHistory))
-    history = previous->value() + "\n";
-  metadata.insertMeta(metadata_names::kHistory, openvdb::StringMetadata(history + history_line));
-  metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
-  const openvdb::GridCPtrVec grids = medium.grids();
-
-  if (path == kStdio) {
-    if (isatty(STDOUT_FILENO)) throw MediumError("stdout: is a terminal; redirect or pipe the VDB stream");
-    try {
-      openvdb::io::Stream(std::cout).write(grids, metadata);
-      std::cout.flush();
-    } catch (const std::exception& e) {
-      throw MediumError(fmt::format("stdout: cannot write the VDB stream ({})", e.what()));
-    }
-    if (!std::cout) throw MediumError("stdout: write failed");
-    return;
-  }
-  AtomicFile output(path);
-  try {
-    openvdb::io::File file(output.temporaryPath());
-    file.write(grids, metadata);
-    file.close();
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: cannot write ({})", path, e.what()));
-  }
-  output.commit();
-}
-
 void checkWritable(const std::string& path) {
   if (path == kStdio) {
     if (isatty(STDOUT_FILENO)) throw MediumError("stdout: is a terminal; redirect or pipe the VDB stream");
@@ -210,22 +189,41 @@ void checkWritable(const std::string& path) {
   if (access(folder.c_str(), W_OK) != 0) throw MediumError(fmt::format("{}: folder is not writable", path));
 }
 
-std::string historyLine(const std::string& tool, int argc, const char* const* argv) {
-  std::string line = fmt::format("{} {}:", tool, kVersion);
-  for (int i = 0; i < argc; ++i) line += " " + shellQuote(i == 0 ? tool : argv[i]);
-  return line;
-}
-
-MediumSummary summarize(const Medium& medium) {
-  MediumSummary summary;
-  for (const auto& grid : medium.grids()) {
-    GridSummary g{grid->getName(), grid->valueType(), grid->activeVoxelCount(), grid->memUsage()};
-    summary.memory_bytes += g.memory_bytes;
-    summary.grids.push_back(std::move(g));
+void writeMedium(const Medium& medium, const std::string& path, const std::string& history_line) {
+  openvdb::initialize();
+  checkWritable(path);
+  try {
+    validateMedium(medium, path == kStdio ? "stdout" : path);
+  } catch (const MediumError& e) {
+    throw MediumError(fmt::format("not written, the result is not a valid medium: {}", e.what()));
   }
-  summary.active_voxels = medium.density->activeVoxelCount();
-  summary.voxel_size = medium.transform().voxelSize()[0];
-  return summary;
+  openvdb::MetaMap metadata = medium.metadata;
+  std::string history;
+  if (auto previous = metadata.getMetadata<openvdb::StringMetadata>(metadata_names::kHistory))
+    history = previous->value() + "\n";
+  metadata.insertMeta(metadata_names::kHistory, openvdb::StringMetadata(history + history_line));
+  metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
+  const openvdb::GridCPtrVec grids = medium.grids();
+
+  if (path == kStdio) {
+    try {
+      openvdb::io::Stream(std::cout).write(grids, metadata);
+      std::cout.flush();
+    } catch (const std::exception& e) {
+      throw MediumError(fmt::format("stdout: cannot write the VDB stream ({})", e.what()));
+    }
+    if (!std::cout) throw MediumError("stdout: write failed");
+    return;
+  }
+  AtomicFile output(path);
+  try {
+    CheckedFileWriter().writeFile(output.temporaryPath(), grids, metadata);
+  } catch (const MediumError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: cannot write ({})", path, e.what()));
+  }
+  output.commit();
 }
 
 }  // namespace vdbappear

@@ -163,11 +163,11 @@ class WhereDenseCheck {
   std::optional<Problem> operator()(const openvdb::FloatTree::LeafNodeType& leaf) const {
     const openvdb::Coord origin = leaf.origin();
     using V3 = LeafValues<openvdb::Vec3STree>;
-    const V3 albedo = medium_.albedo ? V3(medium_.albedo->tree(), origin) : V3(openvdb::Vec3s(0.5f));
-    const V3 diag = medium_.sggx_diag ? V3(medium_.sggx_diag->tree(), origin) : V3(openvdb::Vec3s(1.0f));
-    const V3 offdiag = medium_.sggx_offdiag ? V3(medium_.sggx_offdiag->tree(), origin) : V3(openvdb::Vec3s(0.0f));
+    const V3 albedo = medium_.albedo ? V3(medium_.albedo->tree(), origin) : V3(defaults::kAlbedo);
+    const V3 diag = medium_.sggx_diag ? V3(medium_.sggx_diag->tree(), origin) : V3(defaults::kSggxDiag);
+    const V3 offdiag = medium_.sggx_offdiag ? V3(medium_.sggx_offdiag->tree(), origin) : V3(defaults::kSggxOffdiag);
     using V1 = LeafValues<openvdb::FloatTree>;
-    const V1 hg_g = medium_.hg_g ? V1(medium_.hg_g->tree(), origin) : V1(0.0f);
+    const V1 hg_g = medium_.hg_g ? V1(medium_.hg_g->tree(), origin) : V1(defaults::kHgG);
     for (auto it = leaf.cbeginValueOn(); it; ++it) {
       if (*it <= 0) continue;
       const openvdb::Index n = it.pos();
@@ -262,7 +262,6 @@ void validateAcrossGrids(const Medium& medium, const std::string& source) {
 }
 
 void validateMedium(const Medium& medium, const std::string& source) {
-  if (!medium.density) throw MediumError(fmt::format("{}: no grid named '{}'", source, grid_names::kDensity));
   for (const auto& grid : medium.grids()) validateGrid(*grid, source);
   validateAcrossGrids(medium, source);
 }

@@ -24,10 +24,9 @@ struct Medium;
 void validateGrid(const openvdb::GridBase& grid, const std::string& source);
 
 // What holds across grids: a density grid exists; all grids share its transform, which is linear;
-// sggx_offdiag
-// comes with sggx_diag; wherever density > 0, the values the tools will use there (active or not
-// in their own grids) are valid: albedo in [0,1], S symmetric positive definite, hg_g in (-1,1);
-// the schema and hg_g metadata are understood.
+// sggx_offdiag comes with sggx_diag; wherever density > 0, the values the tools will use there
+// (active or not in their own grids) are valid: albedo in [0,1], S symmetric positive definite,
+// hg_g in (-1,1); the schema and hg_g metadata are understood.
 void validateAcrossGrids(const Medium& medium, const std::string& source);
 
 // Both of the above, for every grid of the medium.

@@ -1,5 +1,6 @@
 #include "libvdbappear/math/sggx.h"
 
+#include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/frame.h"
 
 #include <Eigen/LU>
@@ -7,18 +8,6 @@
 #include <cmath>
 
 namespace vdbappear {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
-
-bool isSymmetricPositiveDefinite(const Mat3& S) {
-  if (!S.allFinite() || (S - S.transpose()).cwiseAbs().maxCoeff() > 1e-6 * S.cwiseAbs().maxCoeff()) return false;
-  // Sylvester's criterion on the leading principal minors; exact for 3x3, no tolerance.
-  const double m1 = S(0, 0);
-  const double m2 = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
-  return m1 > 0 && m2 > 0 && S.determinant() > 0;
-}
 
 Sggx::Sggx(const Mat3& S)
     : S_(S), S_inverse_(S.inverse()), sqrt_det_S_(std::sqrt(S.determinant())) {}

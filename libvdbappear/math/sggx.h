@@ -20,14 +20,11 @@ struct PhaseSample {
   double weight = 0;
 };
 
-// True when S is symmetric and all its eigenvalues are > 0.
-bool isSymmetricPositiveDefinite(const Mat3& S);
-
 // S from the medium's channels: diag = (Sxx, Syy, Szz), offdiag = (Sxy, Sxz, Syz).
 Mat3 sggxMatrix(const Vec3& diag, const Vec3& offdiag);
 
-// isSymmetricPositiveDefinite(sggxMatrix(diag, offdiag)), without building the matrix: Sylvester's
-// criterion on the leading principal minors, in double precision.
+// Is sggxMatrix(diag, offdiag) positive definite? Sylvester's criterion on the leading principal
+// minors, in double precision, without tolerance; false for non-finite entries.
 inline bool isPositiveDefinite(const Vec3& diag, const Vec3& offdiag) {
   const double xx = diag.x(), yy = diag.y(), zz = diag.z(), xy = offdiag.x(), xz = offdiag.y(), yz = offdiag.z();
   const double minor2 = xx * yy - xy * xy;
@@ -38,10 +35,8 @@ inline bool isPositiveDefinite(const Vec3& diag, const Vec3& offdiag) {
 
 class Sggx {
  public:
-  // S must be symmetric positive definite (check with isSymmetricPositiveDefinite).
+  // S must be symmetric positive definite (check with isPositiveDefinite).
   explicit Sggx(const Mat3& S);
-
-  static Sggx fromChannels(const Vec3& diag, const Vec3& offdiag) { return Sggx(sggxMatrix(diag, offdiag)); }
 
   // Fiber-like flakes around a fiber with tangent t (normalised here): the flake normals lie mostly in the
   // plane orthogonal to t. S = (I - t t^T) + roughness^2 t t^T (Heitz et al. 2015, §4).

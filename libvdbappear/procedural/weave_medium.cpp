@@ -1,5 +1,6 @@
 #include "libvdbappear/procedural/weave_medium.h"
 
+#include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/procedural/voxel_filler.h"
 #include "libvdbappear/util/hash_random.h"
@@ -12,8 +13,6 @@
 namespace vdbappear {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Yarn geometry in world units (yarn spacing 1).
 constexpr double kHalfWidth = 0.42;    // cross-section semi-axis across the fabric

@@ -28,6 +28,7 @@ void ProgressBar::advance(std::uint64_t steps) {
 void ProgressBar::finish() {
   if (!enabled_ || finished_) return;
   std::lock_guard lock(draw_mutex_);
+  if (drawn_ == ~std::uint64_t(0)) return;  // nothing shown (work failed before it started): no line
   if (drawn_ != done_.load()) draw(done_.load());
   std::fputc('\n', stderr);
   finished_ = true;

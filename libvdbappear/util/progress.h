@@ -21,7 +21,7 @@ class ProgressBar {
 
   void setTotal(std::uint64_t total) { total_ = total; }  // before the first advance()
   void advance(std::uint64_t steps = 1);
-  void finish();
+  void finish();  // draws the final state and ends the line, if anything was drawn
 
  private:
   void draw(std::uint64_t done);
