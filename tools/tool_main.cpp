@@ -51,12 +51,29 @@ void writeJsonReport(const std::string& path, const nlohmann::json& report) {
     return;
   }
   AtomicFile output(path);
-  {
-    std::ofstream file(output.temporaryPath());
-    file << report.dump(2) << "\n";
-    if (!file) throw std::runtime_error(fmt::format("{}: cannot write the report", path));
-  }
+  std::ofstream file(output.temporaryPath());
+  file << report.dump(2) << "\n";
+  file.close();
+  if (!file) throw std::runtime_error(fmt::format("{}: cannot write the report", path));
   output.commit();
+}
+
+namespace {
+bool samePath(const std::string& a, const std::string& b) {
+  if (a == "-" || b == "-" || a.empty() || b.empty()) return false;
+  std::error_code error;
+  if (std::filesystem::equivalent(a, b, error)) return true;
+  return std::filesystem::weakly_canonical(a, error) == std::filesystem::weakly_canonical(b, error);
+}
+}  // namespace
+
+void checkDistinct(const std::string& input, const std::string& output, const std::string& report) {
+  if (samePath(input, output))
+    throw std::runtime_error(fmt::format("{}: the output is the input; inputs are never modified", output));
+  if (samePath(report, output) || samePath(report, input))
+    throw std::runtime_error(fmt::format("{}: the report would overwrite a medium", report));
+  if (report == "-" && output == "-")
+    throw std::runtime_error("--report - and OUT - would both write to stdout");
 }
 
 std::uint64_t fileSize(const std::string& path) {

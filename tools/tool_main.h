@@ -33,4 +33,7 @@ void writeJsonReport(const std::string& path, const nlohmann::json& report);
 
 std::uint64_t fileSize(const std::string& path);  // 0 for "-" or a missing file
 
+// Refuses an output that would overwrite the input (inputs are never modified) or another output.
+void checkDistinct(const std::string& input, const std::string& output, const std::string& report);
+
 }  // namespace vdbappear::tool

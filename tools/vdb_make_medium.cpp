@@ -1,7 +1,9 @@
 // vdb_make_medium: procedural media per docs/medium.md, deterministic under --seed.
 #include "tool_main.h"
 
+#include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/stopwatch.h"
@@ -26,6 +28,7 @@ constexpr const char* kExamples = R"(Examples:
 
 struct Options {
   std::string kind, output;
+  std::map<std::string, const CLI::Option_group*> kind_options;  // options that belong to one kind
   bool list = false, verbose = false;
   int resolution = 128;
   std::uint64_t seed = 1;
@@ -67,6 +70,9 @@ int make(const Options& options, const std::string& history) {
   }
   const auto kind = kinds().find(options.kind);
   if (kind == kinds().end()) throw std::runtime_error(fmt::format("unknown kind '{}' (see --list)", options.kind));
+  for (const auto& [owner, group] : options.kind_options)
+    if (owner != options.kind && group->count_all() > 0)
+      throw std::runtime_error(fmt::format("options of kind '{}' given for kind '{}'", owner, options.kind));
   if (options.output.empty()) throw std::runtime_error("no output: give -o OUT (- for stdout)");
   checkWritable(options.output);
   Stopwatch clock;
@@ -107,6 +113,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
   random->add_option("--voxel-fill", o.random.voxel_fill, "fraction of voxels active in an occupied block")
       ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  o.kind_options = {{"weave", weave}, {"random", random}};
   tool::ThreadLimit threads(app);
 
   const std::string history = historyLine(kTool, argc, argv);

@@ -3,7 +3,9 @@
 #include "tool_main.h"
 
 #include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
 #include "libvdbappear/version.h"
@@ -47,7 +49,9 @@ nlohmann::json summaryJson(const MediumSummary& s, const std::string& path) {
 }
 
 int downsample(const Options& options, const std::string& history) {
+  tool::checkDistinct(options.input, options.output, options.report);
   checkWritable(options.output);
+  if (!options.report.empty() && options.report != "-") checkWritable(options.report);
   Stopwatch clock;
   const MediumPtr fine = readMedium(options.input);
   const double read_seconds = clock.lap();
@@ -97,8 +101,9 @@ int main(int argc, char** argv) {
   Options options;
   app.add_option("IN", options.input, "input medium (.vdb); - reads a VDB stream from stdin")->required();
   app.add_option("OUT", options.output, "output medium (.vdb); - writes a VDB stream to stdout")->required();
-  app.add_option("-f,--factor", options.downsample.factor, "downsampling factor F, an integer >= 2")
-      ->check(CLI::Range(2, 64))
+  app.add_option("-f,--factor", options.downsample.factor,
+                 fmt::format("downsampling factor F, an integer in 2..{}", kMaxDownsampleFactor))
+      ->check(CLI::Range(2, kMaxDownsampleFactor))
       ->capture_default_str();
   const std::map<std::string, SggxWeighting> weightings{{"count", SggxWeighting::Count},
                                                         {"density", SggxWeighting::Density}};
