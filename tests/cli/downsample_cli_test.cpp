@@ -18,18 +18,12 @@ namespace vdbappear {
 namespace {
 
 using test::quote;
+using test::readFileBytes;
 using test::runCommand;
 using test::TempDir;
 
 const std::string kDownsample = quote(VDB_SGGX_DOWNSAMPLE);
 const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-
-std::string fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
 
 bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
@@ -72,15 +66,79 @@ TEST(DownsampleCli, MissingInputIsOneErrorLineAndNoOutput) {
   EXPECT_FALSE(exists(out));
 }
 
+// The output is checked before the input is even opened: here the input does not exist either.
 TEST(DownsampleCli, UnwritableOutputFailsBeforeAnyWork) {
   TempDir dir;
-  const std::string in = makeRandomFile(dir), out = dir.path("missing/out.vdb");
+  const std::string in = dir.path("absent.vdb"), out = dir.path("missing/out.vdb");
   auto r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(out));
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err, "vdb_sggx_downsample: error: " + out + ": no such folder '" + dir.path("missing") + "'\n");
   r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(dir.root().string()));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("is a directory"), std::string::npos) << r.err;
+  r = runCommand(kDownsample + " -f 2 --report " + quote(dir.path("missing/r.json")) + " " + quote(in) + " " +
+                 quote(dir.path("out.vdb")));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("r.json: no such folder"), std::string::npos) << r.err;
+}
+
+TEST(DownsampleCli, OutputsNeverOverwriteTheInputOrEachOther) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir);
+  const std::string before = readFileBytes(in);
+  auto r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(in));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("the output is the input"), std::string::npos) << r.err;
+  r = runCommand("cd " + quote(dir.root().string()) + " && " + kDownsample + " -f 2 in.vdb ./in.vdb");
+  EXPECT_EQ(r.status, 1) << "the same file by another name";
+  r = runCommand(kDownsample + " -f 2 --report " + quote(in) + " " + quote(in) + " " + quote(dir.path("o.vdb")));
+  EXPECT_EQ(r.status, 1);
+  r = runCommand(kDownsample + " -f 2 --report - " + quote(in) + " - | cat > /dev/null");
+  EXPECT_NE(r.err.find("both write to stdout"), std::string::npos) << r.err;
+  EXPECT_EQ(readFileBytes(in), before);
+  EXPECT_FALSE(exists(dir.path("o.vdb")));
+}
+
+TEST(DownsampleCli, DroppedGridsAreReportedOnStderrAndInTheReport) {
+  TempDir dir;
+  RandomMediumParams p;
+  p.extent = 16;
+  const MediumPtr medium = makeRandomMedium(p);
+  auto extra = openvdb::FloatGrid::create(0.0f);
+  extra->setName("temperature");
+  extra->setTransform(medium->transform().copy());
+  openvdb::GridPtrVec grids = test::copyGrids(*medium);
+  grids.push_back(extra);
+  const std::string in = dir.path("in.vdb"), report = dir.path("r.json");
+  test::writeRawVdb(in, grids);
+  const auto r = runCommand(kDownsample + " -f 2 --report " + quote(report) + " " + quote(in) + " " +
+                            quote(dir.path("out.vdb")));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err,
+            "vdb_sggx_downsample: warning: dropped grid 'temperature': not part of the medium contract, so it was not "
+            "downsampled\n");
+  std::ifstream file(report);
+  EXPECT_EQ(nlohmann::json::parse(file)["warnings"].size(), 1u);
+}
+
+TEST(DownsampleCli, BadMediaThroughStdinAreReportedAsStdin) {
+  TempDir dir;
+  RandomMediumParams p;
+  p.extent = 16;
+  const MediumPtr medium = makeRandomMedium(p);
+  openvdb::GridPtrVec grids = test::copyGrids(*medium);
+  grids.push_back(medium->albedo->deepCopyGrid());  // a second 'albedo'
+  test::writeRawVdb(dir.path("dup.vdb"), grids);
+  auto r = runCommand(kDownsample + " -f 2 - " + quote(dir.path("out.vdb")) + " < " + quote(dir.path("dup.vdb")));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("stdin: grid 'albedo': appears more than once"), std::string::npos) << r.err;
+
+  for (auto it = medium->density->beginValueOn(); it; ++it) it.setValue(-1.0f);
+  test::writeRawVdb(dir.path("negative.vdb"), test::copyGrids(*medium));
+  r = runCommand("cat " + quote(dir.path("negative.vdb")) + " | " + kDownsample + " -f 2 - " + quote(dir.path("out.vdb")));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("stdin: grid 'density': negative density -1"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(dir.path("out.vdb")));
 }
 
 TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
@@ -101,7 +159,7 @@ TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find(in + ": grid 'density': negative density -1"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_EQ(fileBytes(out), "previous result");
+  EXPECT_EQ(readFileBytes(out), "previous result");
   EXPECT_EQ(test::listFiles(dir.root()), (std::vector<std::string>{"negative.vdb", "out.vdb"}));
 }
 
@@ -117,14 +175,14 @@ TEST(DownsampleCli, EmptyStdinIsAnError) {
 TEST(DownsampleCli, PipedFactorTwoTwiceEqualsFactorFour) {
   TempDir dir;
   const std::string in = makeRandomFile(dir, 64);
-  const std::string before = fileBytes(in);
+  const std::string before = readFileBytes(in);
   const std::string chained = dir.path("chained.vdb"), direct = dir.path("direct.vdb");
   auto r = runCommand(kDownsample + " --factor 2 " + quote(in) + " - | " + kDownsample + " --factor 2 - " +
                       quote(chained));
   ASSERT_EQ(r.status, 0) << r.err;
   r = runCommand(kDownsample + " --factor 4 " + quote(in) + " " + quote(direct));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(fileBytes(in), before) << "inputs are never modified";
+  EXPECT_EQ(readFileBytes(in), before) << "inputs are never modified";
 
   const MediumPtr a = readMedium(chained), b = readMedium(direct);
   EXPECT_TRUE(test::gridsMatch(*b->density, *a->density, 1e-5));
@@ -185,6 +243,26 @@ TEST(MakeMediumCli, ListsKindsAndIsDeterministicUnderASeed) {
   const auto unknown = runCommand(kMakeMedium + " velvetish -o " + quote(dir.path("x.vdb")));
   EXPECT_NE(unknown.status, 0);
   EXPECT_NE(unknown.err.find("unknown kind 'velvetish'"), std::string::npos) << unknown.err;
+}
+
+TEST(MakeMediumCli, RefusesEmptyMediaAndOptionsOfAnotherKind) {
+  TempDir dir;
+  const std::string out = dir.path("x.vdb");
+  auto r = runCommand(kMakeMedium + " random --res 16 --block-fill 0 -o " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("not written"), std::string::npos) << r.err;
+  r = runCommand(kMakeMedium + " random --res 16 --layers 3 -o " + quote(out));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("options of kind 'weave' given for kind 'random'"), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(out));
+}
+
+TEST(MakeMediumCli, PipesIntoTheDownsampler) {
+  TempDir dir;
+  const std::string out = dir.path("out.vdb");
+  const auto r = runCommand(kMakeMedium + " random --res 32 -o - | " + kDownsample + " -f 2 - " + quote(out));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_GT(readMedium(out)->density->activeVoxelCount(), 0u);
 }
 
 }  // namespace

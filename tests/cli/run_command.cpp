@@ -3,20 +3,9 @@
 #include "support/temp_dir.h"
 
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <sys/wait.h>
 
 namespace vdbappear::test {
-
-namespace {
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream content;
-  content << in.rdbuf();
-  return content.str();
-}
-}  // namespace
 
 std::string quote(const std::string& word) {
   std::string quoted = "'";
@@ -31,8 +20,8 @@ CommandResult runCommand(const std::string& command_line) {
   const int raw = std::system(wrapped.c_str());
   CommandResult result;
   result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  result.out = slurp(out);
-  result.err = slurp(err);
+  result.out = readFileBytes(out);
+  result.err = readFileBytes(err);
   return result;
 }
 

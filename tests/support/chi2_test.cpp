@@ -1,5 +1,7 @@
 #include "chi2_test.h"
 
+#include "libvdbappear/math/constants.h"
+
 #include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 
@@ -11,8 +13,6 @@
 namespace vdbappear::test {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 int binIndex(const Chi2Options& o, const Vec3& w) {
   const Vec3 local = o.bins.frame.toLocal(w);

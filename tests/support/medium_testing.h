@@ -18,7 +18,6 @@ void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, cons
 openvdb::GridPtrVec copyGrids(const Medium& medium);
 
 inline double maxAbsDifference(float a, float b) { return std::abs(double(a) - double(b)); }
-inline double maxAbsDifference(int a, int b) { return std::abs(double(a) - double(b)); }
 inline double maxAbsDifference(const openvdb::Vec3s& a, const openvdb::Vec3s& b) {
   return std::max({maxAbsDifference(a[0], b[0]), maxAbsDifference(a[1], b[1]), maxAbsDifference(a[2], b[2])});
 }

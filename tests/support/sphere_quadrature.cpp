@@ -1,5 +1,7 @@
 #include "sphere_quadrature.h"
 
+#include "libvdbappear/math/constants.h"
+
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 namespace vdbappear::test {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr unsigned kMaxDepth = 12;
 constexpr double kTolerance = 1e-9;
 }  // namespace

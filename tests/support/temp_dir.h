@@ -21,6 +21,9 @@ class TempDir {
   std::filesystem::path root_;
 };
 
+// The whole content of a file ("" if it cannot be read).
+std::string readFileBytes(const std::string& path);
+
 // Every file name in a folder (temporary files included), sorted.
 std::vector<std::string> listFiles(const std::filesystem::path& folder);
 

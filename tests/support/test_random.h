@@ -1,6 +1,7 @@
 #pragma once
 // Random inputs for tests, from a seeded engine.
 
+#include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/random_spd.h"
 #include "libvdbappear/math/vector.h"
 
@@ -15,7 +16,7 @@ class TestRandom {
   double uniform() { return std::uniform_real_distribution<double>(0.0, 1.0)(engine_); }
   Point2 point2() { return Point2(uniform(), uniform()); }
   Vec3 direction() {
-    const double z = 1 - 2 * uniform(), phi = 2 * 3.14159265358979323846 * uniform();
+    const double z = 1 - 2 * uniform(), phi = 2 * kPi * uniform();
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
     return Vec3(r * std::cos(phi), r * std::sin(phi), z);
   }

@@ -1,5 +1,6 @@
 // Reading, validating and writing media (docs/medium.md).
 #include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_validate.h"
@@ -10,6 +11,7 @@
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <filesystem>
@@ -219,20 +221,71 @@ TEST(MediumIo, NonPositiveDefiniteSIsAcceptedWhereDensityIsZero) {
   EXPECT_NO_THROW(readMedium(dir.path("ok.vdb")));
 }
 
+// The reported voxel is the smallest bad one in (x,y,z) order, with 1 thread or many.
 TEST(MediumIo, FirstBadVoxelIsReportedWhateverTheThreadCount) {
   TempDir dir;
   RandomMediumParams p;
-  p.extent = 64;
+  p.extent = 64;  // centred on 0: spans several root children, whose order is not (x,y,z) order
   const MediumPtr medium = makeRandomMedium(p);
   std::vector<Coord> dense;
   for (auto it = medium->density->cbeginValueOn(); it; ++it)
     if (*it > 0) dense.push_back(it.getCoord());
-  for (std::size_t k = 0; k < dense.size(); k += dense.size() / 7) medium->density->tree().setValue(dense[k], -1.0f);
+  std::vector<Coord> spoiled;
+  for (std::size_t k = dense.size() / 3; k < dense.size(); k += dense.size() / 7) spoiled.push_back(dense[k]);
+  for (const Coord& c : spoiled) medium->density->tree().setValue(c, -1.0f);
   test::writeRawVdb(dir.path("bad.vdb"), test::copyGrids(*medium));
-  const std::string message = readError(dir.path("bad.vdb"));
-  std::ostringstream first;
-  first << "(" << dense[0].x() << "," << dense[0].y() << "," << dense[0].z() << ")";
-  EXPECT_NE(message.find(first.str()), std::string::npos) << message;
+  const Coord first = *std::min_element(spoiled.begin(), spoiled.end());
+  std::ostringstream expected;
+  expected << "at voxel (" << first.x() << "," << first.y() << "," << first.z() << ")";
+  for (int threads : {1, 2, 8}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const std::string message = readError(dir.path("bad.vdb"));
+    EXPECT_NE(message.find(expected.str()), std::string::npos) << threads << " threads: " << message;
+  }
+}
+
+TEST(MediumIo, BadTileValuesAndBackgroundsAreReported) {
+  TempDir dir;
+  MediumPtr medium = smallMedium();
+  medium->density->tree().addTile(1, Coord(800, 0, 0), -2.0f, true);
+  test::writeRawVdb(dir.path("tile.vdb"), test::copyGrids(*medium));
+  EXPECT_NE(readError(dir.path("tile.vdb")).find("negative density -2 at tile (800,0,0)"), std::string::npos)
+      << readError(dir.path("tile.vdb"));
+
+  medium = smallMedium();
+  medium->sggx_offdiag->tree().root().setBackground(Vec3s(NAN), true);
+  test::writeRawVdb(dir.path("background.vdb"), test::copyGrids(*medium));
+  EXPECT_NE(readError(dir.path("background.vdb")).find("grid 'sggx_offdiag': background is NaN or infinite"),
+            std::string::npos)
+      << readError(dir.path("background.vdb"));
+
+  medium = smallMedium();
+  openvdb::MetaMap metadata;
+  metadata.insertMeta("hg_g", openvdb::Int32Metadata(0));
+  test::writeRawVdb(dir.path("meta.vdb"), test::copyGrids(*medium), metadata);
+  EXPECT_NE(readError(dir.path("meta.vdb")).find("metadata 'hg_g' is not a number"), std::string::npos);
+}
+
+TEST(MediumIo, UnnamedGridsAreRejected) {
+  TempDir dir;
+  const MediumPtr medium = smallMedium();
+  openvdb::GridPtrVec grids = test::copyGrids(*medium);
+  grids.push_back(openvdb::FloatGrid::create());
+  test::writeRawVdb(dir.path("unnamed.vdb"), grids);
+  EXPECT_NE(readError(dir.path("unnamed.vdb")).find("a grid has no name"), std::string::npos);
+}
+
+TEST(MediumIo, InvalidMediaAreNeverWritten) {
+  TempDir dir;
+  const MediumPtr medium = smallMedium();
+  medium->density->tree().setValue(denseVoxel(*medium), -1.0f);
+  try {
+    writeMedium(*medium, dir.path("out.vdb"), "test");
+    FAIL() << "written";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("not written"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(test::listFiles(dir.root()).empty());
 }
 
 TEST(MediumIo, UnreadableFilesAreReportedByName) {

@@ -116,6 +116,14 @@ TEST_P(NaiveDownsampleVsBruteForce, MatchesEquations5And6) {
   p.seed = c.seed;
   p.hg_g = true;
   const MediumPtr fine = makeRandomMedium(p);
+  // Other grids need not share the density's topology: drop some albedo and S leaves (their
+  // background then applies) and make some albedo voxels inactive (their stored value applies).
+  int k = 0;
+  for (auto leaf = fine->density->tree().cbeginLeaf(); leaf; ++leaf, ++k) {
+    if (k % 5 == 1) delete fine->albedo->tree().stealNode<openvdb::Vec3STree::LeafNodeType>(leaf->origin(), {}, false);
+    if (k % 7 == 2) delete fine->sggx_offdiag->tree().stealNode<openvdb::Vec3STree::LeafNodeType>(leaf->origin(), {}, false);
+    if (k % 3 == 0) fine->albedo->tree().setValueOff(leaf->origin(), Vec3s(0.3f, 0.6f, 0.9f));
+  }
   const DownsampleResult result = downsampleNaive(*fine, {c.factor, c.weighting});
   expectMatchesBruteForce(*fine, *result.medium, c.factor, c.weighting);
   EXPECT_NO_THROW(validateMedium(*result.medium, "coarse")) << "the output is itself a valid medium";
@@ -236,6 +244,7 @@ TEST(NaiveDownsample, ResultDoesNotDependOnTheThreadCount) {
   const MediumPtr parallel = downsampleNaive(*fine, {3, SggxWeighting::Density}).medium;
   EXPECT_TRUE(test::gridsMatch(*single->density, *parallel->density, 0));
   EXPECT_TRUE(test::gridsMatch(*single->albedo, *parallel->albedo, 0));
+  EXPECT_TRUE(test::gridsMatch(*single->sggx_diag, *parallel->sggx_diag, 0));
   EXPECT_TRUE(test::gridsMatch(*single->sggx_offdiag, *parallel->sggx_offdiag, 0));
 }
 
