@@ -9,7 +9,7 @@ ratios to vdb_lod's:
   vdb_sggx_downsample -f 2                on the full medium        (goal: ratio <= 2)
 vdb_lod comes from Debian's libopenvdb-tools, installed here if missing (never a build dependency).
 
-Usage: scripts/bench_downsample.py [--build build] [--out bench-out] [--runs 9] [--res 256]
+Usage: scripts/bench_downsample.py [--build build] [--out bench-out] [--runs 15] [--res 256]
 """
 import argparse
 import json
@@ -28,6 +28,7 @@ def find_vdb_lod():
     print("bench: installing libopenvdb-tools for vdb_lod", file=sys.stderr)
     sudo = [] if os.geteuid() == 0 else ["sudo"]
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    subprocess.run(sudo + ["apt-get", "update", "-qq"], check=True, env=env, stdout=subprocess.DEVNULL)
     subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "libopenvdb-tools"],
                    check=True, env=env, stdout=subprocess.DEVNULL)
     return "/usr/bin/vdb_lod"
@@ -43,7 +44,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default="build", help="CMake build folder holding bin/")
     parser.add_argument("--out", default="bench-out", help="folder for media and the JSON result")
-    parser.add_argument("--runs", type=int, default=9, help="timed runs of each command (median reported)")
+    parser.add_argument("--runs", type=int, default=15, help="timed runs of each command (median reported)")
     parser.add_argument("--res", type=int, default=256, help="medium resolution (voxels per side)")
     args = parser.parse_args()
 
