@@ -101,12 +101,8 @@ TEST(DownsampleCli, OutputsNeverOverwriteTheInputOrEachOther) {
 
 TEST(DownsampleCli, DroppedGridsAreReportedOnStderrAndInTheReport) {
   TempDir dir;
-  RandomMediumParams p;
-  p.extent = 16;
-  const MediumPtr medium = makeRandomMedium(p);
-  auto extra = openvdb::FloatGrid::create(0.0f);
-  extra->setName("temperature");
-  extra->setTransform(medium->transform().copy());
+  const MediumPtr medium = test::randomMedium(16);
+  auto extra = test::namedGridLike(*medium, "temperature");
   openvdb::GridPtrVec grids = test::copyGrids(*medium);
   grids.push_back(extra);
   const std::string in = dir.path("in.vdb"), report = dir.path("r.json");
@@ -123,9 +119,7 @@ TEST(DownsampleCli, DroppedGridsAreReportedOnStderrAndInTheReport) {
 
 TEST(DownsampleCli, BadMediaThroughStdinAreReportedAsStdin) {
   TempDir dir;
-  RandomMediumParams p;
-  p.extent = 16;
-  const MediumPtr medium = makeRandomMedium(p);
+  const MediumPtr medium = test::randomMedium(16);
   openvdb::GridPtrVec grids = test::copyGrids(*medium);
   grids.push_back(medium->albedo->deepCopyGrid());  // a second 'albedo'
   test::writeRawVdb(dir.path("dup.vdb"), grids);
@@ -143,9 +137,7 @@ TEST(DownsampleCli, BadMediaThroughStdinAreReportedAsStdin) {
 
 TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
   TempDir dir;
-  RandomMediumParams p;
-  p.extent = 16;
-  const MediumPtr medium = makeRandomMedium(p);
+  const MediumPtr medium = test::randomMedium(16);
   for (auto it = medium->density->beginValueOn(); it; ++it) {
     if (*it > 0) {
       it.setValue(-1.0f);

@@ -14,6 +14,19 @@ namespace vdbappear::test {
 // Writes grids and metadata with OpenVDB alone (no validation, no history), as another program might.
 void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& metadata = {});
 
+// makeRandomMedium with default parameters but for the extent and seed.
+MediumPtr randomMedium(int extent, std::uint64_t seed = 1);
+
+// An empty grid named `name` with the medium's transform, to add as an extra grid.
+template <typename GridT = openvdb::FloatGrid>
+typename GridT::Ptr namedGridLike(const Medium& medium, const std::string& name,
+                                  const typename GridT::ValueType& background = {}) {
+  auto grid = GridT::create(background);
+  grid->setName(name);
+  grid->setTransform(medium.transform().copy());
+  return grid;
+}
+
 // A deep copy of every grid of a medium, as a GridPtrVec (for writeRawVdb).
 openvdb::GridPtrVec copyGrids(const Medium& medium);
 

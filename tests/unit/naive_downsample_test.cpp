@@ -155,9 +155,7 @@ TEST(NaiveDownsample, MediaWithoutOptionalGridsStayWithout) {
 // Density and albedo means commute with chaining: F = 2 twice equals F = 4. So does S with density
 // weights (a weighted mean of weighted means); with count weights it does not, by design.
 TEST(NaiveDownsample, ChainingTwoFactorsOfTwoEqualsFactorFour) {
-  RandomMediumParams p;
-  p.extent = 45;
-  const MediumPtr fine = makeRandomMedium(p);
+  const MediumPtr fine = test::randomMedium(45);
   for (SggxWeighting weighting : {SggxWeighting::Count, SggxWeighting::Density}) {
     const MediumPtr half = downsampleNaive(*fine, {2, weighting}).medium;
     const MediumPtr chained = downsampleNaive(*half, {2, weighting}).medium;
@@ -211,9 +209,7 @@ TEST(NaiveDownsample, PreservesTheWorldRegion) {
 }
 
 TEST(NaiveDownsample, ActiveTilesGiveTheSameResultAsTheirVoxels) {
-  RandomMediumParams p;
-  p.extent = 40;
-  const MediumPtr tiled = makeRandomMedium(p);
+  const MediumPtr tiled = test::randomMedium(40);
   tiled->density->tree().fill(CoordBBox(Coord(-64), Coord(-49)), 2.5f, true);   // 8 level-1 tiles
   tiled->density->tree().fill(CoordBBox(Coord(128), Coord(255)), 0.5f, true);   // one level-2 tile
   tiled->albedo->tree().fill(CoordBBox(Coord(-64), Coord(-57)), Vec3s(0.2f, 0.4f, 0.6f), true);
@@ -233,9 +229,7 @@ TEST(NaiveDownsample, ActiveTilesGiveTheSameResultAsTheirVoxels) {
 }
 
 TEST(NaiveDownsample, ResultDoesNotDependOnTheThreadCount) {
-  RandomMediumParams p;
-  p.extent = 64;
-  const MediumPtr fine = makeRandomMedium(p);
+  const MediumPtr fine = test::randomMedium(64);
   MediumPtr single;
   {
     tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
@@ -249,20 +243,13 @@ TEST(NaiveDownsample, ResultDoesNotDependOnTheThreadCount) {
 }
 
 TEST(NaiveDownsample, OtherGridsArePassedRefusedOrDroppedWithAWarning) {
-  RandomMediumParams p;
-  p.extent = 16;
-  const MediumPtr fine = makeRandomMedium(p);
+  const MediumPtr fine = test::randomMedium(16);
   fine->source = "in.vdb";
-  auto table = openvdb::FloatGrid::create(0.0f);
-  table->setName("phase_table");
-  table->setTransform(fine->transform().copy());
+  auto table = test::namedGridLike(*fine, "phase_table");
   table->tree().setValue(Coord(3, 0, 0), 0.08f);
-  auto notes = openvdb::FloatGrid::create(0.0f);
-  notes->setName("temperature");
-  notes->setTransform(fine->transform().copy());
-  auto lobes = openvdb::FloatGrid::create(0.0f);
-  lobes->setName("lobes");  // not a lobe grid of the contract: unknown, so dropped with a warning
-  lobes->setTransform(fine->transform().copy());
+  auto notes = test::namedGridLike(*fine, "temperature");
+  // "lobes" is not a lobe grid of the contract: unknown, so dropped with a warning.
+  auto lobes = test::namedGridLike(*fine, "lobes");
   fine->other_grids = {table, notes, lobes};
   const DownsampleResult result = downsampleNaive(*fine, {2, SggxWeighting::Count});
   ASSERT_EQ(result.medium->other_grids.size(), 1u);
@@ -286,9 +273,7 @@ TEST(NaiveDownsample, OtherGridsArePassedRefusedOrDroppedWithAWarning) {
 }
 
 TEST(NaiveDownsample, RefusesNonLinearTransforms) {
-  RandomMediumParams p;
-  p.extent = 16;
-  const MediumPtr fine = makeRandomMedium(p);
+  const MediumPtr fine = test::randomMedium(16);
   fine->density->setTransform(openvdb::math::Transform::createFrustumTransform(
       openvdb::BBoxd(openvdb::Vec3d(0), openvdb::Vec3d(16)), 0.5, 2, 1));
   EXPECT_THROW(downsampleNaive(*fine, {2, SggxWeighting::Count}), MediumError);
