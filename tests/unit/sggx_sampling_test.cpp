@@ -22,8 +22,10 @@ std::vector<SamplingCase> samplingCases() {
   test::TestRandom random(11);
   std::vector<SamplingCase> cases;
   cases.push_back({"isotropic", Mat3::Identity(), random.direction()});
-  for (int k = 0; k < 4; ++k) cases.push_back({"random_" + std::to_string(k), random.spd(0.05), random.direction()});
-  for (int k = 0; k < 3; ++k) cases.push_back({"random_stiff_" + std::to_string(k), random.spd(1e-3), random.direction()});
+  for (int k = 0; k < 10; ++k)
+    cases.push_back({"random_" + std::to_string(k), random.spd(0.05), random.direction()});
+  for (int k = 0; k < 5; ++k)
+    cases.push_back({"random_stiff_" + std::to_string(k), random.spd(1e-3), random.direction()});
   for (double r : {0.5, 0.2, 0.05, 0.02}) {
     const std::string suffix = std::to_string(int(r * 100));
     cases.push_back({"fiber_r" + suffix, Sggx::fiberMatrix(random.direction(), r), random.direction()});
