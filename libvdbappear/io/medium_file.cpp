@@ -12,7 +12,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -29,9 +28,6 @@ struct VdbContents {
   openvdb::MetaMap::Ptr metadata;
 };
 
-// Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
-// is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first by
-// name is reported.
 // Every grid has a name, and no name appears twice.
 void checkGridNames(std::vector<std::string> names, const std::string& source) {
   std::sort(names.begin(), names.end());
@@ -41,6 +37,9 @@ void checkGridNames(std::vector<std::string> names, const std::string& source) {
     throw MediumError(fmt::format("{}: grid '{}': appears more than once", source, *repeated));
 }
 
+// Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
+// is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first by
+// name is reported.
 VdbContents readVdbFile(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
