@@ -11,6 +11,8 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev
   # maths, flags, JSON, formatting
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  # images (PNG previews, EXR): OpenImageIO, found through pkg-config (build note 3)
+  libopenimageio-dev
   # tests
   libgtest-dev
 )

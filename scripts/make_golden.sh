@@ -5,6 +5,6 @@
 set -euo pipefail
 build=${1:-build}
 golden="$(dirname "$0")/../grids/golden"
-"$build/bin/vdb_make_medium" weave --res 24 --seed 1 -o "$golden/weave24.vdb"
+"$build/bin/vdb_make_medium" twill --pattern plain --res 24 --seed 1 -o "$golden/weave24.vdb"
 "$build/bin/vdb_sggx_downsample" --factor 2 "$golden/weave24.vdb" "$golden/weave24_naive2x.vdb"
 ls -l "$golden"

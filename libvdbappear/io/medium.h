@@ -20,6 +20,7 @@ inline constexpr const char* kHgG = "hg_g";
 inline constexpr const char* kCluster = "cluster";
 inline constexpr const char* kPhaseId = "phase_id";
 inline constexpr const char* kPhaseTable = "phase_table";
+inline constexpr const char* kExemplarLayout = "exemplar_layout";  // Int32Grid: (i,j,k) -> exemplar id
 }  // namespace grid_names
 
 // Values of the base grids where a medium has no such grid (docs/medium.md, section 3).
@@ -35,6 +36,8 @@ inline constexpr const char* kSchema = "schema";
 inline constexpr const char* kHistory = "history";
 inline constexpr const char* kHgG = "hg_g";
 inline constexpr int kSchemaVersion = 1;
+inline constexpr const char* kExemplarCount = "exemplar_count";  // int N
+inline constexpr const char* kExemplarBlock = "exemplar_block";  // vec3i: voxels per block along x,y,z
 }  // namespace metadata_names
 
 struct Medium {

@@ -142,7 +142,8 @@ std::optional<std::vector<std::string>> requiredValueTypes(const std::string& na
   if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
   if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
-  if (name == grid_names::kCluster || name == grid_names::kPhaseId) return Types{"int32"};
+  if (name == grid_names::kCluster || name == grid_names::kPhaseId || name == grid_names::kExemplarLayout)
+    return Types{"int32"};
   if (isLobeGridName(name)) return Types{name.substr(name.rfind('_')) == "_fraction" ? "float" : "vec3s"};
   return std::nullopt;
 }
@@ -224,6 +225,23 @@ void checkMetadata(const Medium& medium, const std::string& source) {
   }
 }
 
+// exemplar_layout: ids in 0..exemplar_count-1, and the metadata that says how big a block is.
+void checkExemplarLayout(const Medium& medium, const std::string& source) {
+  for (const auto& grid : medium.other_grids) {
+    if (grid->getName() != grid_names::kExemplarLayout) continue;
+    const auto count = medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kExemplarCount);
+    const auto block = medium.metadata.getMetadata<openvdb::Vec3IMetadata>(metadata_names::kExemplarBlock);
+    if (!count || count->value() < 1 || !block || block->value().x() < 1 || block->value().y() < 1 || block->value().z() < 1)
+      fail(source, grid->getName(), "needs metadata 'exemplar_count' (int >= 1) and 'exemplar_block' (vec3i >= 1)");
+    const auto& layout = static_cast<const openvdb::Int32Grid&>(*grid);
+    for (auto v = layout.cbeginValueOn(); v; ++v)
+      if (*v < 0 || *v >= count->value())
+        fail(source, grid->getName(),
+             fmt::format("exemplar id {} at ({},{},{}) outside 0..{}", *v, v.getCoord().x(), v.getCoord().y(),
+                         v.getCoord().z(), count->value() - 1));
+  }
+}
+
 }  // namespace
 
 void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
@@ -259,6 +277,7 @@ void validateAcrossGrids(const Medium& medium, const std::string& source) {
     if (grid->transform() != medium.transform())
       fail(source, grid->getName(), "its transform differs from the density grid's (all grids of a medium share one)");
   checkValuesWhereDense(medium, source);
+  checkExemplarLayout(medium, source);
 }
 
 void validateMedium(const Medium& medium, const std::string& source) {

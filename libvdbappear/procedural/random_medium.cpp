@@ -20,7 +20,7 @@ MediumPtr makeRandomMedium(const RandomMediumParams& p) {
     const openvdb::Coord b = block.min() >> 3;
     return hashUniform(p.seed, {kBlock, b.x(), b.y(), b.z()}) < p.block_fill;
   };
-  auto sample = [&p](const openvdb::Coord& c) -> std::optional<VoxelSample> {
+  auto sample = [&p](const openvdb::Coord& c, const Vec3&) -> std::optional<VoxelSample> {
     auto u = [&](std::int64_t stream, std::int64_t k = 0) { return hashUniform(p.seed, {stream, k, c.x(), c.y(), c.z()}); };
     if (u(kActive) >= p.voxel_fill) return std::nullopt;
     VoxelSample v;

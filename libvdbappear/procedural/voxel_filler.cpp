@@ -17,9 +17,11 @@ using openvdb::Vec3s;
 
 Vec3s toVec3s(const Vec3& v) { return Vec3s(float(v.x()), float(v.y()), float(v.z())); }
 
-void fillBlock(const Medium& medium, const CoordBBox& block, const VoxelFunction& sample, MediumBlock& out) {
+void fillBlock(const Medium& medium, const ProceduralLayout& layout, const CoordBBox& block,
+               const VoxelFunction& sample, MediumBlock& out) {
   for (auto ijk = block.begin(); ijk; ++ijk) {
-    const std::optional<VoxelSample> voxel = sample(*ijk);
+    const Vec3 centre = layout.origin + layout.voxel_size * Vec3((*ijk).x(), (*ijk).y(), (*ijk).z());
+    const std::optional<VoxelSample> voxel = sample(*ijk, centre);
     if (!voxel) continue;
     if (out.empty()) out.allocate(medium, block.min() & ~7);
     const Mat3& S = voxel->S;
@@ -47,14 +49,15 @@ std::vector<CoordBBox> leafBlocks(const CoordBBox& bounds) {
 
 MediumPtr fillMedium(const ProceduralLayout& layout, const BlockTest& may_be_occupied, const VoxelFunction& sample) {
   openvdb::initialize();
-  const MediumPtr medium = makeEmptyMedium({layout.albedo, layout.sggx, layout.hg_g},
-                                           openvdb::math::Transform::createLinearTransform(layout.voxel_size));
+  auto transform = openvdb::math::Transform::createLinearTransform(layout.voxel_size);
+  transform->postTranslate(openvdb::Vec3d(layout.origin.x(), layout.origin.y(), layout.origin.z()));
+  const MediumPtr medium = makeEmptyMedium({layout.albedo, layout.sggx, layout.hg_g}, transform);
   medium->source = "procedural";
   const std::vector<CoordBBox> blocks = leafBlocks(layout.bounds);
   std::vector<MediumBlock> leaves(blocks.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size()), [&](const auto& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i)
-      if (may_be_occupied(blocks[i])) fillBlock(*medium, blocks[i], sample, leaves[i]);
+      if (may_be_occupied(blocks[i])) fillBlock(*medium, layout, blocks[i], sample, leaves[i]);
   });
   for (auto& block : leaves) block.adoptInto(*medium);
   return medium;

@@ -4,33 +4,28 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/procedural/voxel_sample.h"
 
 #include <functional>
 #include <optional>
 
 namespace vdbappear {
 
-// What one voxel holds. S is written only when the medium has SGGX grids.
-struct VoxelSample {
-  float density = 0;
-  Vec3 albedo = Vec3::Ones();
-  Mat3 S = Mat3::Identity();
-  float hg_g = 0;
-};
 
 struct ProceduralLayout {
   openvdb::CoordBBox bounds;  // index-space box to fill
-  double voxel_size = 1;      // world units; the index origin sits at world (0,0,0)
+  double voxel_size = 1;      // world units
+  Vec3 origin = Vec3::Zero(); // world position of the centre of voxel (0,0,0)
   bool albedo = true;
   bool sggx = true;
   bool hg_g = false;
 };
 
-// `may_be_occupied(block)` may skip whole 8^3 blocks quickly; `sample(ijk)` returns the voxel, made
-// active whatever its density, or nullopt to leave it inactive. Both must be thread-safe and
-// deterministic.
+// `may_be_occupied(block)` may skip whole 8^3 blocks quickly; `sample(ijk, centre)` (centre: the
+// voxel's world position) returns the voxel, made active whatever its density, or nullopt to leave
+// it inactive. Both must be thread-safe and deterministic.
 using BlockTest = std::function<bool(const openvdb::CoordBBox&)>;
-using VoxelFunction = std::function<std::optional<VoxelSample>(const openvdb::Coord&)>;
+using VoxelFunction = std::function<std::optional<VoxelSample>(const openvdb::Coord& ijk, const Vec3& centre)>;
 
 MediumPtr fillMedium(const ProceduralLayout& layout, const BlockTest& may_be_occupied, const VoxelFunction& sample);
 

@@ -1,0 +1,28 @@
+#pragma once
+// A cloud: smooth heterogeneous smoke-like density inside a sphere, dense and forward scattering
+// (constant HG g), for the similarity work. Density is fractal gradient noise plus a bump that
+// favours the centre, thresholded so that a chosen share of the sphere holds smoke, with soft edges.
+
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/math/vector.h"
+
+#include <cstdint>
+
+namespace vdbappear {
+
+struct CloudParams {
+  int resolution = 128;         // voxels along the largest side
+  std::uint64_t seed = 1;
+  double size = 2;              // diameter of the bounding sphere (world units), centred on the origin
+  double density = 40;          // peak rho, 1/world unit
+  double coverage = 0.5;        // share of the sphere's voxels that hold smoke (density > 0)
+  double feature_size = 0.6;    // world size of the largest noise features
+  int octaves = 5;
+  double edge_softness = 0.15;  // width of the density ramp at the cloud's edge, in noise units
+  Vec3 albedo = Vec3::Constant(0.98);
+  double g = 0.9;               // HG asymmetry, written as file metadata hg_g
+};
+
+MediumPtr makeCloud(const CloudParams& params);
+
+}  // namespace vdbappear

@@ -1,0 +1,94 @@
+#include "libvdbappear/procedural/velvet_medium.h"
+
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/procedural/fiber_field.h"
+#include "libvdbappear/procedural/fiber_segments.h"
+#include "libvdbappear/procedural/voxel_filler.h"
+#include "libvdbappear/procedural/weave_medium.h"
+#include "libvdbappear/util/hash_random.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdbappear {
+
+namespace {
+
+constexpr double kBaseMidPlane = 0.5;
+
+WeaveParams baseWeave(const VelvetParams& p) {
+  WeaveParams w;
+  w.seed = p.seed;
+  w.pattern = "plain";
+  w.yarns = p.yarns;
+  w.layers = 1;
+  w.fiber_density = p.base_density;
+  w.roughness = p.roughness;
+  w.warp_albedo = w.weft_albedo = p.base_albedo;
+  return w;
+}
+
+// Pile fibers rooted on a jittered grid of the base's mid-plane (a fiber never leaves its cell at
+// the root), each leaning toward +x by the common angle plus a random tilt in a cone.
+std::vector<FiberSegment> pileFibers(const VelvetParams& p) {
+  const int cells = int(std::floor(p.yarns / p.pile_spacing));
+  const double jitter = std::max(0.0, 0.5 * p.pile_spacing - p.pile_radius);
+  const double lean = std::tan(p.lean_degrees * kPi / 180);
+  const double cos_max = std::cos(p.tilt_degrees * kPi / 180);
+  std::vector<FiberSegment> fibers;
+  fibers.reserve(std::size_t(cells) * cells);
+  for (int i = 0; i < cells; ++i)
+    for (int j = 0; j < cells; ++j) {
+      auto u = [&](int k) { return hashUniform(p.seed, {11, i, j, k}); };
+      const Vec3 root((i + 0.5) * p.pile_spacing + jitter * (2 * u(0) - 1),
+                      (j + 0.5) * p.pile_spacing + jitter * (2 * u(1) - 1), kBaseMidPlane);
+      // Uniform direction in the cone of half-angle tilt about +z, then the common lean.
+      const double cos_t = 1 - u(2) * (1 - cos_max), sin_t = std::sqrt(1 - cos_t * cos_t), phi = 2 * kPi * u(3);
+      Vec3 dir(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t);
+      dir = (dir / dir.z() + Vec3(lean, 0, 0)).normalized();
+      fibers.push_back({root, root + dir * (p.pile_height / dir.z()), p.pile_radius, i * cells + j});
+    }
+  return fibers;
+}
+
+class Velvet : public FiberField {
+ public:
+  explicit Velvet(const VelvetParams& p) : p_(p), base_(baseWeave(p)), pile_(pileFibers(p), 4 * p.pile_radius) {}
+
+  std::optional<FiberPoint> fiberAt(const Vec3& q) const override {
+    if (q.z() < 1) {
+      if (auto base = base_.fiberAt(q)) return base;  // the base weave holds the pile's roots
+    }
+    const int id = pile_.find(q);
+    if (id < 0) return std::nullopt;
+    const FiberSegment& s = pile_.segment(id);
+    const double jitter = 1 + 0.1 * (2 * hashUniform(p_.seed, {12, s.material}) - 1);
+    return FiberPoint{(s.b - s.a).normalized(), (p_.pile_albedo * jitter).cwiseMin(1.0), p_.pile_density,
+                      p_.roughness};
+  }
+
+  double top() const { return kBaseMidPlane + p_.pile_height + p_.pile_radius; }
+
+ private:
+  VelvetParams p_;
+  WeaveGeometry base_;
+  SegmentIndex pile_;
+};
+
+}  // namespace
+
+MediumPtr makeVelvet(const VelvetParams& params) {
+  const Velvet velvet(params);
+  const double extent = std::max(double(params.yarns), velvet.top());
+  const double voxel_size = extent / params.resolution;
+  auto last = [&](double e) { return int(std::ceil(e / voxel_size - 1e-9)) - 1; };
+  ProceduralLayout layout;
+  layout.bounds = {openvdb::Coord(0), openvdb::Coord(last(params.yarns), last(params.yarns), last(velvet.top()))};
+  layout.voxel_size = voxel_size;
+  layout.origin = Vec3::Constant(0.5 * voxel_size);  // voxel (0,0,0) covers [0, voxel_size]^3
+  return fillMedium(
+      layout, [](const openvdb::CoordBBox&) { return true; },
+      [&](const openvdb::Coord&, const Vec3& centre) { return sampleFiberVoxel(velvet, centre, voxel_size); });
+}
+
+}  // namespace vdbappear
