@@ -67,7 +67,7 @@ std::string exemplarDescription(int e) {
 
 MediumPtr makeExemplars(const ExemplarParams& p) {
   if (p.block_yarns % 4 != 0)
-    throw std::invalid_argument(fmt::format("--block-yarns {}: must be a multiple of 4 (whole pattern repeats)", p.block_yarns));
+    throw std::invalid_argument(fmt::format("exemplar blocks of {} yarns: need a multiple of 4 (whole repeats of every pattern)", p.block_yarns));
   std::vector<WeaveGeometry> exemplars;
   for (int e = 0; e < p.count; ++e) exemplars.push_back(exemplarGeometry(p, e));
   const double voxel_size = double(p.block_yarns) / p.resolution;

@@ -1,4 +1,4 @@
-// vdb_sggx_downsample and vdb_make_medium from the command line: flags, errors, pipes, files.
+// vdb_sggx_downsample from the command line: flags, errors, pipes, files.
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/procedural/random_medium.h"
@@ -212,41 +212,6 @@ TEST(DownsampleCli, ReportAndVerboseSummaryCountVoxels) {
   EXPECT_EQ(json["output"]["active_voxels"].get<std::uint64_t>(), readMedium(out)->density->activeVoxelCount());
   EXPECT_GT(json["input"]["file_bytes"].get<std::uint64_t>(), 0u);
   EXPECT_TRUE(json["seconds"].contains("downsample"));
-}
-
-TEST(MakeMediumCli, ListsKindsAndIsDeterministicUnderASeed) {
-  const auto list = runCommand(kMakeMedium + " --list");
-  EXPECT_EQ(list.status, 0);
-  EXPECT_NE(list.out.find("weave"), std::string::npos);
-  EXPECT_NE(list.out.find("random"), std::string::npos);
-
-  TempDir dir;
-  for (const std::string kind : {"weave", "random"}) {
-    const std::string a = dir.path(kind + "_a.vdb"), b = dir.path(kind + "_b.vdb"), c = dir.path(kind + "_c.vdb");
-    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 5 -j 1 -o " + quote(a)).status, 0);
-    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 5 -o " + quote(b)).status, 0);
-    ASSERT_EQ(runCommand(kMakeMedium + " " + kind + " --res 32 --seed 6 -o " + quote(c)).status, 0);
-    const MediumPtr ma = readMedium(a), mb = readMedium(b), mc = readMedium(c);
-    EXPECT_TRUE(test::gridsMatch(*ma->density, *mb->density, 0)) << kind;
-    EXPECT_TRUE(test::gridsMatch(*ma->albedo, *mb->albedo, 0)) << kind;
-    EXPECT_TRUE(test::gridsMatch(*ma->sggx_diag, *mb->sggx_diag, 0)) << kind;
-    EXPECT_FALSE(test::gridsMatch(*ma->albedo, *mc->albedo, 0)) << kind << ": another seed, another medium";
-  }
-  const auto unknown = runCommand(kMakeMedium + " velvetish -o " + quote(dir.path("x.vdb")));
-  EXPECT_NE(unknown.status, 0);
-  EXPECT_NE(unknown.err.find("unknown kind 'velvetish'"), std::string::npos) << unknown.err;
-}
-
-TEST(MakeMediumCli, RefusesEmptyMediaAndOptionsOfAnotherKind) {
-  TempDir dir;
-  const std::string out = dir.path("x.vdb");
-  auto r = runCommand(kMakeMedium + " random --res 16 --block-fill 0 -o " + quote(out));
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("not written"), std::string::npos) << r.err;
-  r = runCommand(kMakeMedium + " random --res 16 --layers 3 -o " + quote(out));
-  EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("options of kind 'weave' given for kind 'random'"), std::string::npos) << r.err;
-  EXPECT_FALSE(exists(out));
 }
 
 TEST(MakeMediumCli, PipesIntoTheDownsampler) {
