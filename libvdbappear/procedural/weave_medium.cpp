@@ -45,14 +45,18 @@ std::optional<YarnPoint> WeaveGeometry::locateYarn(const Vec3& p, bool warp) con
   const double t = c - crossing;
   const double h0 = onTop(warp, yarn, crossing) ? kAmplitude : -kAmplitude;
   const double h1 = onTop(warp, yarn, crossing + 1) ? kAmplitude : -kAmplitude;
-  const double height = h0 + (h1 - h0) * 0.5 * (1 - std::cos(kPi * t));
+  const double height = h0 == h1 ? h0 : h0 + (h1 - h0) * 0.5 * (1 - std::cos(kPi * t));
   const double v = p.z() - (layer + 0.5) - height;
   if ((u / kHalfWidth) * (u / kHalfWidth) + (v / kHalfHeight) * (v / kHalfHeight) > 1) return std::nullopt;
-  const double slope = (h1 - h0) * 0.5 * kPi * std::sin(kPi * t);
-  const Vec3 axis = (warp ? Vec3(1, 0, slope) : Vec3(0, 1, slope)).normalized();
-  const Vec3 across_dir = warp ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  const Vec3 through = axis.cross(across_dir).normalized() * (warp ? 1.0 : -1.0);  // about +z
-  return YarnPoint{warp, layer, yarn, axis, across_dir, through, u, v, along};
+  const double slope = h0 == h1 ? 0.0 : (h1 - h0) * 0.5 * kPi * std::sin(kPi * t);
+  return YarnPoint{warp, layer, yarn, u, v, along, slope};
+}
+
+YarnFrame yarnFrame(const YarnPoint& y) {
+  const Vec3 axis = (y.warp ? Vec3(1, 0, y.slope) : Vec3(0, 1, y.slope)).normalized();
+  const Vec3 across = y.warp ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
+  const Vec3 through = axis.cross(across).normalized() * (y.warp ? 1.0 : -1.0);  // about +z
+  return {axis, across, through};
 }
 
 double WeaveGeometry::fiberAngle(double along) const { return 2 * kPi * along / params_.twist_pitch; }
@@ -71,7 +75,8 @@ std::optional<FiberPoint> WeaveGeometry::fiberAt(const Vec3& p) const {
     if ((q - centre).squaredNorm() >= kFiberRadius * kFiberRadius) continue;
     // A helix about the yarn axis: tangent = axis + (2 pi / pitch) * (azimuthal offset).
     const double twist = 2 * kPi / params_.twist_pitch;
-    const Vec3 tangent = (y->axis + twist * (y->u * y->through - y->v * y->across)).normalized();
+    const YarnFrame f = yarnFrame(*y);
+    const Vec3 tangent = (f.axis + twist * (y->u * f.through - y->v * f.across)).normalized();
     const double jitter = 1 + 0.08 * (2 * h[2] - 1);  // per-fiber colour variation
     const Vec3 albedo = ((warp ? params_.warp_albedo : params_.weft_albedo) * jitter).cwiseMin(1.0).cwiseMax(0.0);
     return FiberPoint{tangent, albedo, params_.fiber_density, params_.roughness};

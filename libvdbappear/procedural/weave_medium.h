@@ -48,12 +48,16 @@ struct WeaveGeometryConstants {
 struct YarnPoint {
   bool warp;
   int layer, yarn;  // the yarn's index across the fabric
-  Vec3 axis;        // unit tangent of the yarn centreline
-  Vec3 across;      // unit vector across the fabric, in the cross-section
-  Vec3 through;     // unit vector completing the cross-section frame
-  double u, v;      // offsets along `across` and `through`
+  double u, v;      // offsets across the fabric and through it (vertically) from the centreline
   double along;     // position along the yarn
+  double slope;     // d(centreline height) / d(along)
 };
+
+// The yarn's frame at a point: its unit centreline tangent and the cross-section's two axes.
+struct YarnFrame {
+  Vec3 axis, across, through;
+};
+YarnFrame yarnFrame(const YarnPoint& y);
 
 class WeaveGeometry : public FiberField, public WeaveGeometryConstants {
  public:
