@@ -28,4 +28,6 @@ bench: build
 	@scripts/bench_downsample.py --build $(BUILD_DIR)
 
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out
+	rm -rf $(BUILD_DIR) demo-out bench-out media
+
+include scripts/media.mk

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark vdb_sggx_downsample --factor 2 against OpenVDB's vdb_lod -range 1, in one run.
 
-Makes a 256^3 sparse medium (a 4-layer plain weave: density, RGB albedo, SGGX), extracts its density
+Makes a 256^3 sparse medium (a 4-layer twill: density, RGB albedo, SGGX), extracts its density
 grid, then times, interleaved, N runs of each command and prints the median wall times and their
 ratios to vdb_lod's:
   vdb_lod -range 1                        on the density grid alone (the baseline)
@@ -53,11 +53,11 @@ def main():
     downsample = os.path.join(bin_dir, "vdb_sggx_downsample")
     vdb_lod = find_vdb_lod()
     os.makedirs(args.out, exist_ok=True)
-    full = os.path.join(args.out, f"weave{args.res}.vdb")
-    density = os.path.join(args.out, f"weave{args.res}_density.vdb")
+    full = os.path.join(args.out, f"twill{args.res}.vdb")
+    density = os.path.join(args.out, f"twill{args.res}_density.vdb")
     scratch = os.path.join(args.out, "scratch.vdb")
 
-    subprocess.run([make_medium, "weave", "--res", str(args.res), "--layers", "4", "--seed", "1", "-o", full],
+    subprocess.run([make_medium, "twill", "--res", str(args.res), "--layers", "4", "--seed", "1", "-o", full],
                    check=True)
     subprocess.run([vdb_lod, full, density, "-range", "0", "-name", "density", "-p"], check=True)
 

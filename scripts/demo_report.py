@@ -7,7 +7,7 @@ import sys
 
 def main():
     folder = pathlib.Path(sys.argv[1])
-    reports = sorted(folder.glob("weave_*x.json"), key=lambda p: json.loads(p.read_text())["factor"])
+    reports = sorted(folder.glob("twill_*x.json"), key=lambda p: json.loads(p.read_text())["factor"])
     make_seconds = float((folder / "make_seconds.txt").read_text())
     first = json.loads(reports[0].read_text())["input"]
     rows = [("full resolution", first["active_voxels"], first["memory_bytes"], first["file_bytes"],
@@ -20,10 +20,15 @@ def main():
                      f"read {s['read']:.2f} s, downsample {s['downsample']:.3f} s, write {s['write']:.3f} s"))
     header = "| medium | active voxels | memory MB | file MB | time |\n|---|---:|---:|---:|---|\n"
     table = header + "".join(f"| {n} | {v:,} | {m / 1e6:.1f} | {f / 1e6:.1f} | {t} |\n" for n, v, m, f, t in rows)
-    text = ("# vdbappear demo\n\nThe default medium (`vdb_make_medium weave`: a plain weave of twisted fibers, "
+    previews = " ".join(f"![{name}]({name}.png)" for name in
+                        ["twill"] + [f"twill_{json.loads(p.read_text())['factor']}x" for p in reports])
+    text = ("# vdbappear demo\n\nThe default medium (`vdb_make_medium twill`: a 2/2 twill of twisted fibers, "
+            "pink warp and yellow weft as in Fig. 9 of the downsampling paper, "
             f"voxel size {first['voxel_size']:.4g}) downsampled naively (Eq. 5-6) with "
             "`vdb_sggx_downsample`.\n\n" + table +
-            "\nRendered comparisons (full resolution vs naive, error maps) come with vdb_render.\n")
+            "\nPreviews (`vdb_preview`: absorption-emission with local shadows, not a renderer), full "
+            "resolution then 2x, 4x, 8x:\n\n" + previews + "\n\n"
+            "Rendered comparisons (full resolution vs naive, error maps) come with vdb_render.\n")
     (folder / "report.md").write_text(text)
     print()
     print(table)

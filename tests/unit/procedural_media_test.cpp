@@ -235,7 +235,11 @@ TEST(HairyBall, StrandsAreRadialAndTheMassIsCorePlusStrands) {
   const double core = 4.0 / 3.0 * kPi * std::pow(p.radius, 3) * p.core_density;
   const double strands = hairyBallStrandCount(p) * kPi * p.strand_radius * p.strand_radius *
                          (p.hair_length - p.strand_radius) * p.strand_density;
-  EXPECT_NEAR(totalMass(*m) / (core + strands), 1.0, 0.03);
+  // Strands that lean toward each other cross near their roots, where a point counts once: the
+  // mass falls short of the sum by a few percent (2.6% at these settings), never exceeds it.
+  const double ratio = totalMass(*m) / (core + strands);
+  EXPECT_GT(ratio, 0.95);
+  EXPECT_LT(ratio, 1.005);
 }
 
 TEST(HairyBall, TwoMaterialsSplitTheFurByHemisphere) {
@@ -297,13 +301,13 @@ TEST(Shapes, PhaseChoicesWriteTheContractsGrids) {
 TEST(Cloud, CoversTheRequestedShareOfItsSphere) {
   for (double coverage : {0.3, 0.6}) {
     CloudParams p;
-    p.resolution = 48;
+    p.resolution = 56;  // not the 48^3 lattice that sets the threshold
     p.coverage = coverage;
     const MediumPtr m = makeCloud(p);
     int sphere_voxels = 0;
-    for (int x = 0; x < 48; ++x)
-      for (int y = 0; y < 48; ++y)
-        for (int z = 0; z < 48; ++z) sphere_voxels += worldOf(*m, {x, y, z}).norm() <= 0.5 * p.size;
+    for (int x = 0; x < p.resolution; ++x)
+      for (int y = 0; y < p.resolution; ++y)
+        for (int z = 0; z < p.resolution; ++z) sphere_voxels += worldOf(*m, {x, y, z}).norm() <= 0.5 * p.size;
     EXPECT_NEAR(double(m->density->activeVoxelCount()) / sphere_voxels, coverage, 0.03);
     float max = 0;
     for (auto v = m->density->cbeginValueOn(); v; ++v) max = std::max(max, *v);
