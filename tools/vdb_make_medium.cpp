@@ -77,6 +77,8 @@ void take(const std::optional<T>& flag, T& param) {
 void take(const std::optional<std::vector<double>>& flag, Vec3& param) {
   if (!flag) return;
   const auto& v = *flag;
+  if (v.size() != 1 && v.size() != 3)
+    throw std::runtime_error(fmt::format("a colour takes 1 value (grey) or 3 (R,G,B), got {}", v.size()));
   param = v.size() == 1 ? Vec3::Constant(v[0]) : Vec3(v[0], v[1], v[2]);
 }
 
@@ -93,6 +95,7 @@ MediumPtr makeTwill(const Flags& f) {
   take(f.twist_pitch, p.twist_pitch);
   take(f.warp_albedo, p.warp_albedo);
   take(f.weft_albedo, p.weft_albedo);
+  if (f.harness && p.pattern == "plain") throw std::runtime_error("--harness needs --pattern twill or satin");
   return makeWeave(p);
 }
 
@@ -160,7 +163,9 @@ MediumPtr makeExemplarsKind(const Flags& f) {
   take(f.yarns, p.block_yarns);
   take(f.fiber_density, p.fiber_density);
   take(f.roughness, p.roughness);
-  if (f.layout && std::sscanf(f.layout->c_str(), "%dx%d", &p.layout_width, &p.layout_height) != 2)
+  int consumed = 0;
+  if (f.layout && (std::sscanf(f.layout->c_str(), "%dx%d%n", &p.layout_width, &p.layout_height, &consumed) != 2 ||
+                   consumed != int(f.layout->size())))
     throw std::runtime_error(fmt::format("--layout {}: expected WxH, e.g. 8x8", *f.layout));
   if (p.layout_width < 1 || p.layout_height < 1) throw std::runtime_error("--layout: W and H must be >= 1");
   return makeExemplars(p);
@@ -330,7 +335,8 @@ int main(int argc, char** argv) {
   app.add_option("--res", flags.resolution,
                  "voxels along the largest side (default 128; cube, sphere, slab 64; exemplars: per block, 64)")
       ->check(CLI::Range(4, 4096));
-  app.add_option("--seed", flags.seed, "random seed: same seed, same medium")->capture_default_str();
+  app.add_option("--seed", flags.seed, "random seed: same seed, same medium (shapes: the phase of --variation)")
+      ->capture_default_str();
   app.add_flag("-v,--verbose", flags.verbose, "print voxel counts and timings to stderr");
   FlagRegistry registry(app);
   addKindFlags(registry, flags);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -14,7 +15,7 @@
 namespace vdbappear {
 
 float linearToSrgb(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
+  const float c = linear >= 0 ? std::min(linear, 1.0f) : 0.0f;  // NaN and negatives: black
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1 / 2.4f) - 0.055f;
 }
 
@@ -23,12 +24,13 @@ void writeImage(const RgbImage& image, const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   if (extension.empty()) throw MediumError(fmt::format("{}: no extension to choose the image format by", path));
   extension = extension.substr(1);
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  AtomicFile file(path);  // before the writer, so the writer closes the temporary file first
   auto output = OIIO::ImageOutput::create(extension);  // by format: the temporary name has no extension
   if (!output) throw MediumError(fmt::format("{}: cannot write .{} images: {}", path, extension, OIIO::geterror()));
-  const bool is_float = output->supports("channelformat") || extension == "exr";
+  const bool is_float = extension == "exr";
   OIIO::ImageSpec spec(image.width, image.height, 3, is_float ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
   if (!is_float) spec.attribute("oiio:ColorSpace", "sRGB");
-  AtomicFile file(path);
   bool ok = output->open(file.temporaryPath(), spec);
   if (ok && is_float) {
     ok = output->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());

@@ -31,14 +31,12 @@ class HairyBall : public FiberField {
   explicit HairyBall(const HairyBallParams& p) : p_(p), strands_(makeStrands(p), 4 * p.strand_radius) {}
 
   std::optional<FiberPoint> fiberAt(const Vec3& q) const override {
-    const int id = strands_.find(q);
-    if (id >= 0) {
-      const FiberSegment& s = strands_.segment(id);
-      return FiberPoint{(s.b - s.a).normalized(), colour(s.a.normalized()), p_.strand_density, roughness(s.a)};
-    }
     if (q.squaredNorm() < p_.radius * p_.radius)
       return FiberPoint{Vec3::UnitZ(), colour(q.normalized()), p_.core_density, 1.0};  // roughness 1: S = I
-    return std::nullopt;
+    const int id = strands_.find(q);
+    if (id < 0) return std::nullopt;
+    const FiberSegment& s = strands_.segment(id);
+    return FiberPoint{(s.b - s.a).normalized(), colour(s.a.normalized()), p_.strand_density, roughness(s.a)};
   }
 
   double extent() const { return p_.radius + p_.hair_length + p_.strand_radius; }

@@ -29,24 +29,32 @@ WeaveParams baseWeave(const VelvetParams& p) {
 }
 
 // Pile fibers rooted on a jittered grid of the base's mid-plane (a fiber never leaves its cell at
-// the root), each leaning toward +x by the common angle plus a random tilt in a cone.
+// the root), each leaning toward +x by the common angle plus a random tilt in a cone. The grid
+// spacing is adjusted so that whole cells fill the patch, and the roots repeat with the patch's
+// period beyond its edges, so fibers leaning in from outside fill the pile up to every edge and
+// the patch tiles like the base weave.
 std::vector<FiberSegment> pileFibers(const VelvetParams& p) {
-  const int cells = int(std::floor(p.yarns / p.pile_spacing));
-  const double jitter = std::max(0.0, 0.5 * p.pile_spacing - p.pile_radius);
+  const int cells = std::max(1, int(std::lround(p.yarns / p.pile_spacing)));
+  const double spacing = double(p.yarns) / cells;
+  const double jitter = std::max(0.0, 0.5 * spacing - p.pile_radius);
   const double lean = std::tan(p.lean_degrees * kPi / 180);
   const double cos_max = std::cos(p.tilt_degrees * kPi / 180);
+  const double reach = p.pile_height * std::tan((p.lean_degrees + p.tilt_degrees) * kPi / 180);
+  const int margin = int(std::ceil(reach / spacing)) + 1;
   std::vector<FiberSegment> fibers;
-  fibers.reserve(std::size_t(cells) * cells);
-  for (int i = 0; i < cells; ++i)
-    for (int j = 0; j < cells; ++j) {
-      auto u = [&](int k) { return hashUniform(p.seed, {11, i, j, k}); };
-      const Vec3 root((i + 0.5) * p.pile_spacing + jitter * (2 * u(0) - 1),
-                      (j + 0.5) * p.pile_spacing + jitter * (2 * u(1) - 1), kBaseMidPlane);
+  fibers.reserve(std::size_t(cells + 2 * margin) * std::size_t(cells + 2 * margin));
+  auto wrap = [cells](int k) { return ((k % cells) + cells) % cells; };
+  for (int i = -margin; i < cells + margin; ++i)
+    for (int j = -margin; j < cells + margin; ++j) {
+      const int wi = wrap(i), wj = wrap(j);
+      auto u = [&](int k) { return hashUniform(p.seed, {11, wi, wj, k}); };
+      const Vec3 root((i + 0.5) * spacing + jitter * (2 * u(0) - 1),
+                      (j + 0.5) * spacing + jitter * (2 * u(1) - 1), kBaseMidPlane);
       // Uniform direction in the cone of half-angle tilt about +z, then the common lean.
       const double cos_t = 1 - u(2) * (1 - cos_max), sin_t = std::sqrt(1 - cos_t * cos_t), phi = 2 * kPi * u(3);
       Vec3 dir(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t);
       dir = (dir / dir.z() + Vec3(lean, 0, 0)).normalized();
-      fibers.push_back({root, root + dir * (p.pile_height / dir.z()), p.pile_radius, i * cells + j});
+      fibers.push_back({root, root + dir * (p.pile_height / dir.z()), p.pile_radius, wi * cells + wj});
     }
   return fibers;
 }

@@ -36,7 +36,9 @@ std::optional<YarnPoint> WeaveGeometry::locateYarn(const Vec3& p, bool warp) con
   const double along = warp ? p.x() : p.y(), across = warp ? p.y() : p.x();
   const int yarn = int(std::floor(across));
   const int layer = int(std::floor(p.z()));
-  const double u = across - (yarn + 0.5);
+  // u runs along +y for warp, -x for weft: both cross-section frames (across, through, axis) are
+  // right-handed, so warp and weft fibers twist the same way (Z twist).
+  const double u = (across - (yarn + 0.5)) * (warp ? 1.0 : -1.0);
   if (std::abs(u) > kHalfWidth) return std::nullopt;
   // Crimp: the centreline sits +-kAmplitude above the layer's mid-plane at the crossing centres
   // (up where this yarn is on top) and follows a half cosine in between.
@@ -54,8 +56,8 @@ std::optional<YarnPoint> WeaveGeometry::locateYarn(const Vec3& p, bool warp) con
 
 YarnFrame yarnFrame(const YarnPoint& y) {
   const Vec3 axis = (y.warp ? Vec3(1, 0, y.slope) : Vec3(0, 1, y.slope)).normalized();
-  const Vec3 across = y.warp ? Vec3(0, 1, 0) : Vec3(1, 0, 0);
-  const Vec3 through = axis.cross(across).normalized() * (y.warp ? 1.0 : -1.0);  // about +z
+  const Vec3 across = y.warp ? Vec3(0, 1, 0) : Vec3(-1, 0, 0);
+  const Vec3 through = axis.cross(across).normalized();  // about +z; across x through = axis
   return {axis, across, through};
 }
 
@@ -73,10 +75,13 @@ std::optional<FiberPoint> WeaveGeometry::fiberAt(const Vec3& p) const {
     const Eigen::Vector2d centre = (cell_f + Eigen::Vector2d::Constant(0.5)) * kFiberSpacing +
                                    kFiberJitter * Eigen::Vector2d(2 * h[0] - 1, 2 * h[1] - 1);
     if ((q - centre).squaredNorm() >= kFiberRadius * kFiberRadius) continue;
-    // A helix about the yarn axis: tangent = axis + (2 pi / pitch) * (azimuthal offset).
+    // A helix about the yarn axis. Per unit of `along`, the centreline advances by (1, slope)
+    // (unnormalised) and the fiber turns by 2 pi / pitch about it: tangent = centreline
+    // derivative + (2 pi / pitch) * (azimuthal offset).
     const double twist = 2 * kPi / params_.twist_pitch;
     const YarnFrame f = yarnFrame(*y);
-    const Vec3 tangent = (f.axis + twist * (y->u * f.through - y->v * f.across)).normalized();
+    const Vec3 centreline = f.axis * std::sqrt(1 + y->slope * y->slope);
+    const Vec3 tangent = (centreline + twist * (y->u * f.through - y->v * f.across)).normalized();
     const double jitter = 1 + 0.08 * (2 * h[2] - 1);  // per-fiber colour variation
     const Vec3 albedo = ((warp ? params_.warp_albedo : params_.weft_albedo) * jitter).cwiseMin(1.0).cwiseMax(0.0);
     return FiberPoint{tangent, albedo, params_.fiber_density, params_.roughness};

@@ -32,7 +32,8 @@ WeavePattern WeavePattern::twill(int n) {
 WeavePattern WeavePattern::satin(int n) {
   if (n < 5) throw std::invalid_argument(fmt::format("a satin needs at least 5 harnesses, got {}", n));
   int step = 2;
-  while (std::gcd(step, n) != 1) ++step;  // n >= 5 always has one in [2, n-2]
+  while (step <= n - 2 && std::gcd(step, n) != 1) ++step;
+  if (step > n - 2) throw std::invalid_argument(fmt::format("there is no regular satin with {} harnesses", n));
   return {n, table(n, [=](int i, int j) { return (j - step * i % n + n) % n != 0; })};
 }
 

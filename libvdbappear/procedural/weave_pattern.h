@@ -15,7 +15,7 @@ class WeavePattern {
   // one weft per warp, which gives the diagonal wale. n >= 3.
   static WeavePattern twill(int harness);
   // n-harness warp-faced satin: each warp goes under one weft in n; the under-points step by the
-  // smallest counter s in [2, n-2] coprime with n, so none touch. n >= 5.
+  // smallest counter s in [2, n-2] coprime with n, so none touch. n >= 5, n != 6 (no such s).
   static WeavePattern satin(int harness);
   // "plain", "twill" or "satin"; harness 0 picks the default (twill 4, satin 5).
   static WeavePattern byName(const std::string& name, int harness = 0);

@@ -87,6 +87,10 @@ TEST(MakeMediumCli, RefusesBadKindsFlagsAndEmptyMediaWithoutOutput) {
       {"twill --pattern twill --harness 2", "at least 3 harnesses"},
       {"exemplars --yarns 6", "multiple of 4"},
       {"exemplars --layout 8by8", "expected WxH"},
+      {"exemplars --layout 8x8foo", "expected WxH"},
+      {"cube --albedo 0.5,0.6", "1 value (grey) or 3"},
+      {"twill --pattern plain --harness 3", "--harness needs --pattern twill or satin"},
+      {"twill --pattern satin --harness 6", "no regular satin with 6 harnesses"},
       {"cube --albedo 1.5", "1.5"},
       {"cube --res 2", "--res"},
   };

@@ -209,12 +209,18 @@ TEST(Velvet, PileIsUprightAndCoversItsShareOfTheArea) {
     const Vec3 w = worldOf(*m, v.getCoord());
     if (w.z() > 0.85) angles.push_back(angleDegrees(fiberDirection(sggxAt(*m, v.getCoord())), Vec3::UnitZ()));
   }
-  const openvdb::Vec3d lo = m->transform().worldToIndex({1, 1, z}), hi = m->transform().worldToIndex({3, 3, z});
-  for (int x = int(lo[0]); x <= int(hi[0]); ++x)
-    for (int y = int(lo[1]); y <= int(hi[1]); ++y, ++count) sum += density.getValue({x, y, int(std::lround(lo[2]))});
-  const double ratio = sum / count / (p.pile_density * coverage);
-  EXPECT_GT(ratio, (1 - std::exp(-coverage)) / coverage - 0.01);
-  EXPECT_LT(ratio, 1 / std::cos((p.lean_degrees + p.tilt_degrees) * kPi / 180) + 0.03);
+  // The same holds at the patch's edges: fibers rooted beyond them (the pile repeats with the
+  // patch's period) lean in, so the pile has no bald strip where it leans away.
+  for (const auto& [x0, x1] : {std::pair{1.0, 3.0}, std::pair{0.02, 0.3}, std::pair{3.7, 3.98}}) {
+    const openvdb::Vec3d lo = m->transform().worldToIndex({x0, 1, z}), hi = m->transform().worldToIndex({x1, 3, z});
+    sum = 0;
+    count = 0;
+    for (int x = int(lo[0]); x <= int(hi[0]); ++x)
+      for (int y = int(lo[1]); y <= int(hi[1]); ++y, ++count) sum += density.getValue({x, y, int(std::lround(lo[2]))});
+    const double ratio = sum / count / (p.pile_density * coverage);
+    EXPECT_GT(ratio, (1 - std::exp(-coverage)) / coverage - 0.02) << x0 << ".." << x1;
+    EXPECT_LT(ratio, 1 / std::cos((p.lean_degrees + p.tilt_degrees) * kPi / 180) + 0.03) << x0 << ".." << x1;
+  }
   std::sort(angles.begin(), angles.end());
   EXPECT_LE(angles.back(), p.lean_degrees + p.tilt_degrees + 0.5);
 }
@@ -236,7 +242,7 @@ TEST(HairyBall, StrandsAreRadialAndTheMassIsCorePlusStrands) {
   const double strands = hairyBallStrandCount(p) * kPi * p.strand_radius * p.strand_radius *
                          (p.hair_length - p.strand_radius) * p.strand_density;
   // Strands that lean toward each other cross near their roots, where a point counts once: the
-  // mass falls short of the sum by a few percent (2.6% at these settings), never exceeds it.
+  // mass falls short of the sum by a few percent (3.0% at these settings), never exceeds it.
   const double ratio = totalMass(*m) / (core + strands);
   EXPECT_GT(ratio, 0.95);
   EXPECT_LT(ratio, 1.005);

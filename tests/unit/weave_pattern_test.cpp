@@ -46,6 +46,7 @@ TEST(WeavePattern, SatinInterlacesOncePerRepeatAndTheInterlacingsNeverTouch) {
     }
   }
   EXPECT_THROW(WeavePattern::satin(4), std::invalid_argument);
+  EXPECT_THROW(WeavePattern::satin(6), std::invalid_argument) << "no counter in [2, 4] is coprime with 6";
 }
 
 TEST(WeavePattern, MirroredAndTransposedVariants) {
