@@ -173,7 +173,7 @@ MediumPtr makeExemplarsKind(const Flags& f) {
 
 MediumPtr makeRandomKind(const Flags& f) {
   RandomMediumParams p;
-  p.extent = f.resolution.value_or(48);
+  take(f.resolution, p.extent);
   p.seed = f.seed;
   take(f.block_fill, p.block_fill);
   take(f.voxel_fill, p.voxel_fill);

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/procedural/gradient_noise.h"
+#include "libvdbappear/math/smoothstep.h"
 #include "libvdbappear/procedural/voxel_filler.h"
 
 #include <algorithm>
@@ -44,11 +45,6 @@ class CloudField {
   double radius_;
 };
 
-double smoothstep(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
-
 }  // namespace
 
 MediumPtr makeCloud(const CloudParams& p) {
@@ -56,10 +52,7 @@ MediumPtr makeCloud(const CloudParams& p) {
   const double threshold = field.threshold();
   const int res = p.resolution;
   const double voxel_size = p.size / res;
-  ProceduralLayout layout;
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(res - 1)};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3::Constant((-0.5 * res + 0.5) * voxel_size);  // centred on the origin
+  ProceduralLayout layout = centredLayout(openvdb::Coord(res), voxel_size);
   layout.sggx = false;
   MediumPtr medium = fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },

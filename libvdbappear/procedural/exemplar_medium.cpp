@@ -61,21 +61,14 @@ openvdb::Int32Grid::Ptr layoutGrid(const ExemplarParams& p, const openvdb::math:
 
 }  // namespace
 
-std::string exemplarDescription(int e) {
-  return fmt::format("{}, {}", kPatterns[e % kPatternCount].name, kPalettes[e % kPaletteCount].name);
-}
-
 MediumPtr makeExemplars(const ExemplarParams& p) {
   if (p.block_yarns % 4 != 0)
     throw std::invalid_argument(fmt::format("exemplar blocks of {} yarns: need a multiple of 4 (whole repeats of every pattern)", p.block_yarns));
   std::vector<WeaveGeometry> exemplars;
   for (int e = 0; e < p.count; ++e) exemplars.push_back(exemplarGeometry(p, e));
   const double voxel_size = double(p.block_yarns) / p.resolution;
-  const int depth = int(std::ceil(1 / voxel_size - 1e-9));  // one fabric layer
-  ProceduralLayout layout;
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(p.count * p.resolution - 1, p.resolution - 1, depth - 1)};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3::Constant(0.5 * voxel_size);  // voxel (0,0,0) covers [0, voxel_size]^3
+  const int depth = voxelsToCover(1, voxel_size);  // one fabric layer
+  const ProceduralLayout layout = cornerLayout(openvdb::Coord(p.count * p.resolution, p.resolution, depth), voxel_size);
   MediumPtr medium = fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord& ijk, const Vec3& centre) {

@@ -22,9 +22,6 @@ struct ExemplarParams {
   double roughness = 0.1;
 };
 
-// Weave pattern and colours of exemplar e, in words ("twill 4 mirrored, navy/cream").
-std::string exemplarDescription(int e);
-
 MediumPtr makeExemplars(const ExemplarParams& params);
 
 }  // namespace vdbappear

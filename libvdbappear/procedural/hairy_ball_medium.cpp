@@ -4,6 +4,7 @@
 #include "libvdbappear/math/frame.h"
 #include "libvdbappear/procedural/fiber_field.h"
 #include "libvdbappear/procedural/fiber_segments.h"
+#include "libvdbappear/math/smoothstep.h"
 #include "libvdbappear/procedural/voxel_filler.h"
 #include "libvdbappear/util/hash_random.h"
 
@@ -19,11 +20,6 @@ Vec3 fibonacciPoint(int k, int n) {
   const double z = 1 - (2 * k + 1) / double(n);
   const double r = std::sqrt(std::max(0.0, 1 - z * z));
   return Vec3(r * std::cos(golden_angle * k), r * std::sin(golden_angle * k), z);
-}
-
-double smoothstep(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3 - 2 * t);
 }
 
 class HairyBall : public FiberField {
@@ -81,11 +77,8 @@ int hairyBallStrandCount(const HairyBallParams& p) {
 MediumPtr makeHairyBall(const HairyBallParams& params) {
   const HairyBall ball(params);
   const double voxel_size = 2 * ball.extent() / params.resolution;
-  ProceduralLayout layout;
   // Non-negative index coordinates keep the tree under one root child (smaller files).
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(params.resolution - 1)};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3::Constant(-ball.extent() + 0.5 * voxel_size);  // centred on the origin
+  const ProceduralLayout layout = centredLayout(openvdb::Coord(params.resolution), voxel_size);
   return fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord&, const Vec3& centre) { return sampleFiberVoxel(ball, centre, voxel_size); });

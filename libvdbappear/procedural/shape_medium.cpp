@@ -62,11 +62,7 @@ MediumPtr makeShape(const ShapeParams& p) {
   const int res = p.resolution;
   const double voxel_size = p.size / res;
   const int depth = p.shape == Shape::Slab ? std::max(1, int(std::lround(p.thickness / voxel_size))) : res;
-  ProceduralLayout layout;
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(res - 1, res - 1, depth - 1)};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3(-0.5 * res + 0.5, -0.5 * res + 0.5, -0.5 * depth + 0.5) * voxel_size;  // centred
-  layout.albedo = true;
+  ProceduralLayout layout = centredLayout(openvdb::Coord(res, res, depth), voxel_size);
   layout.sggx = p.phase == PhaseChoice::SggxFiber || p.phase == PhaseChoice::SggxSurface;
   Mat3 S = Mat3::Identity();
   if (p.phase == PhaseChoice::SggxFiber) S = Sggx::fiberMatrix(p.axis, p.roughness);

@@ -89,11 +89,9 @@ MediumPtr makeVelvet(const VelvetParams& params) {
   const Velvet velvet(params);
   const double extent = std::max(double(params.yarns), velvet.top());
   const double voxel_size = extent / params.resolution;
-  auto last = [&](double e) { return int(std::ceil(e / voxel_size - 1e-9)) - 1; };
-  ProceduralLayout layout;
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(last(params.yarns), last(params.yarns), last(velvet.top()))};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3::Constant(0.5 * voxel_size);  // voxel (0,0,0) covers [0, voxel_size]^3
+  const int across = voxelsToCover(params.yarns, voxel_size);
+  const ProceduralLayout layout =
+      cornerLayout(openvdb::Coord(across, across, voxelsToCover(velvet.top(), voxel_size)), voxel_size);
   return fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord&, const Vec3& centre) { return sampleFiberVoxel(velvet, centre, voxel_size); });

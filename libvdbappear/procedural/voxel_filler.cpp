@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <cmath>
 #include <vector>
 
 namespace vdbappear {
@@ -46,6 +47,22 @@ std::vector<CoordBBox> leafBlocks(const CoordBBox& bounds) {
 }
 
 }  // namespace
+
+int voxelsToCover(double extent, double voxel_size) { return int(std::ceil(extent / voxel_size - 1e-9)); }
+
+ProceduralLayout cornerLayout(const Coord& voxels, double voxel_size) {
+  ProceduralLayout layout;
+  layout.bounds = {Coord(0), voxels.offsetBy(-1)};
+  layout.voxel_size = voxel_size;
+  layout.origin = Vec3::Constant(0.5 * voxel_size);
+  return layout;
+}
+
+ProceduralLayout centredLayout(const Coord& voxels, double voxel_size) {
+  ProceduralLayout layout = cornerLayout(voxels, voxel_size);
+  layout.origin = Vec3(-0.5 * voxels.x() + 0.5, -0.5 * voxels.y() + 0.5, -0.5 * voxels.z() + 0.5) * voxel_size;
+  return layout;
+}
 
 MediumPtr fillMedium(const ProceduralLayout& layout, const BlockTest& may_be_occupied, const VoxelFunction& sample) {
   openvdb::initialize();

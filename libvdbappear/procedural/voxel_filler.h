@@ -21,6 +21,13 @@ struct ProceduralLayout {
   bool hg_g = false;
 };
 
+// Voxels needed to cover `extent` world units (a hair under a whole number counts as that number).
+int voxelsToCover(double extent, double voxel_size);
+// Index box [0, voxels) whose voxel (0,0,0) covers the world box [0, voxel_size]^3.
+ProceduralLayout cornerLayout(const openvdb::Coord& voxels, double voxel_size);
+// Index box [0, voxels) centred on the world origin.
+ProceduralLayout centredLayout(const openvdb::Coord& voxels, double voxel_size);
+
 // `may_be_occupied(block)` may skip whole 8^3 blocks quickly; `sample(ijk, centre)` (centre: the
 // voxel's world position) returns the voxel, made active whatever its density, or nullopt to leave
 // it inactive. Both must be thread-safe and deterministic.

@@ -114,11 +114,9 @@ bool WeaveGeometry::slabMayHoldYarns(double z0, double z1) const {
 MediumPtr makeWeave(const WeaveParams& params) {
   const WeaveGeometry weave(params);
   const double voxel_size = double(std::max(params.yarns, params.layers)) / params.resolution;
-  auto last = [&](int extent) { return int(std::ceil(extent / voxel_size - 1e-9)) - 1; };
-  ProceduralLayout layout;
-  layout.bounds = {openvdb::Coord(0), openvdb::Coord(last(params.yarns), last(params.yarns), last(params.layers))};
-  layout.voxel_size = voxel_size;
-  layout.origin = Vec3::Constant(0.5 * voxel_size);  // voxel (0,0,0) covers [0, voxel_size]^3
+  const int across = voxelsToCover(params.yarns, voxel_size);
+  const ProceduralLayout layout =
+      cornerLayout(openvdb::Coord(across, across, voxelsToCover(params.layers, voxel_size)), voxel_size);
   return fillMedium(
       layout,
       [&](const openvdb::CoordBBox& block) {
