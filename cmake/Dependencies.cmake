@@ -22,3 +22,6 @@ find_package(GTest REQUIRED)
 # OpenImageIO through pkg-config: its CMake config names a missing OpenCV include folder (build note 3).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
+# Surfaces: Embree 3 (target `embree`) and meshes through Assimp (OBJ, PLY, ...).
+find_package(embree 3 REQUIRED)
+find_package(assimp REQUIRED)

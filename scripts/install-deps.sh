@@ -13,6 +13,8 @@ packages=(
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   # images (PNG previews, EXR): OpenImageIO, found through pkg-config (build note 3)
   libopenimageio-dev
+  # surfaces in renders: ray tracing kernels and mesh files (OBJ, PLY)
+  libembree-dev libassimp-dev
   # tests
   libgtest-dev
 )

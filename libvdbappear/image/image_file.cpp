@@ -45,4 +45,52 @@ void writeImage(const RgbImage& image, const std::string& path) {
   file.commit();
 }
 
+int ImageChannels::find(const std::string& name) const {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : int(it - names.begin());
+}
+
+void writeExr(const ImageChannels& image, const std::string& path) {
+  namespace OIIO = OIIO_NAMESPACE;
+  const int n = int(image.names.size());
+  if (n == 0 || image.values.size() != std::size_t(image.width) * image.height * n)
+    throw MediumError(fmt::format("{}: image channels and values do not match", path));
+  AtomicFile file(path);
+  auto output = OIIO::ImageOutput::create("exr");
+  if (!output) throw MediumError(fmt::format("{}: cannot write .exr images: {}", path, OIIO::geterror()));
+  OIIO::ImageSpec spec(image.width, image.height, n, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = image.names;
+  spec.alpha_channel = -1;
+  spec.attribute("compression", "zip");
+  bool ok = output->open(file.temporaryPath(), spec) && output->write_image(OIIO::TypeDesc::FLOAT, image.values.data());
+  ok = output->close() && ok;
+  if (!ok) throw MediumError(fmt::format("{}: cannot write the image: {}", path, output->geterror()));
+  file.commit();
+}
+
+ImageChannels readImageChannels(const std::string& path) {
+  namespace OIIO = OIIO_NAMESPACE;
+  if (!std::filesystem::is_regular_file(path)) throw MediumError(fmt::format("{}: no such image file", path));
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) throw MediumError(fmt::format("{}: cannot read the image: {}", path, OIIO::geterror()));
+  const OIIO::ImageSpec& spec = input->spec();
+  ImageChannels image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.names = spec.channelnames;
+  image.values.resize(std::size_t(spec.width) * spec.height * spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.values.data()))
+    throw MediumError(fmt::format("{}: cannot read the image: {}", path, input->geterror()));
+  return image;
+}
+
+RgbImage readRgbImage(const std::string& path) {
+  const ImageChannels channels = readImageChannels(path);
+  const int n = int(channels.names.size());
+  RgbImage image(channels.width, channels.height);
+  for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)
+    for (int c = 0; c < 3; ++c) image.pixels[3 * i + c] = channels.values[i * n + std::min(c, n - 1)];
+  return image;
+}
+
 }  // namespace vdbappear

@@ -1,0 +1,116 @@
+#include "libvdbappear/medium/majorant_grid.h"
+
+#include "libvdbappear/io/leaf_values.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/sggx.h"
+
+#include <Eigen/Eigenvalues>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+#include <vector>
+
+namespace vdbappear {
+
+Interpolation parseInterpolation(const std::string& name) {
+  if (name == "nearest") return Interpolation::kNearest;
+  if (name == "trilinear") return Interpolation::kTrilinear;
+  throw std::invalid_argument("interpolation '" + name + "': expected nearest or trilinear");
+}
+
+const char* interpolationName(Interpolation interpolation) {
+  return interpolation == Interpolation::kNearest ? "nearest" : "trilinear";
+}
+
+namespace {
+
+double largestEigenvalue(const openvdb::Vec3s& diag, const openvdb::Vec3s& offdiag) {
+  const Mat3 S = sggxMatrix(Vec3(diag[0], diag[1], diag[2]), Vec3(offdiag[0], offdiag[1], offdiag[2]));
+  Eigen::SelfAdjointEigenSolver<Mat3> solver;
+  solver.computeDirect(S, Eigen::EigenvaluesOnly);
+  // computeDirect is accurate to a few ulps relative to the norm; pad so the bound stays a bound.
+  return solver.eigenvalues().maxCoeff() * (1 + 1e-6) + 1e-12 * S.norm();
+}
+
+struct LeafBound {
+  float max_rho_sqrt_lambda = 0;  // nearest lookups
+  float max_rho = 0;              // trilinear lookups: max(rho) * sqrt(max lambda)
+  float max_lambda = 0;
+};
+
+// One 8^3 block of density (a leaf, or part of a tile).
+LeafBound boundOfBlock(const Medium& medium, const openvdb::Coord& origin) {
+  const LeafValues<openvdb::FloatTree> rho(medium.density->tree(), origin);
+  const auto diag = medium.sggx_diag ? LeafValues<openvdb::Vec3STree>(medium.sggx_diag->tree(), origin)
+                                     : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(1.0f));
+  const auto offdiag = medium.sggx_offdiag ? LeafValues<openvdb::Vec3STree>(medium.sggx_offdiag->tree(), origin)
+                                           : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(0.0f));
+  LeafBound bound;
+  for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
+    const double r = rho[i];
+    if (!(r > 0)) continue;
+    const double lambda = medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
+    bound.max_rho_sqrt_lambda = std::max(bound.max_rho_sqrt_lambda, float(r * std::sqrt(lambda) * (1 + 1e-6)));
+    bound.max_rho = std::max(bound.max_rho, float(r * (1 + 1e-6)));
+    bound.max_lambda = std::max(bound.max_lambda, float(lambda * (1 + 1e-6)));
+  }
+  return bound;
+}
+
+// The origins of every 8^3 block that holds density: leaves, and the blocks of active tiles.
+std::vector<openvdb::Coord> densityBlocks(const openvdb::FloatTree& tree) {
+  std::vector<openvdb::Coord> origins;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) origins.push_back(leaf->origin());
+  for (auto tile = tree.cbeginValueOn(); tile; ++tile) {
+    if (tile.isVoxelValue()) continue;
+    const openvdb::CoordBBox box = tile.getBoundingBox();
+    for (int x = box.min().x(); x <= box.max().x(); x += 8)
+      for (int y = box.min().y(); y <= box.max().y(); y += 8)
+        for (int z = box.min().z(); z <= box.max().z(); z += 8) origins.emplace_back(x, y, z);
+  }
+  return origins;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation) {
+  const std::vector<openvdb::Coord> origins = densityBlocks(medium.density->tree());
+  std::vector<LeafBound> bounds(origins.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) bounds[i] = boundOfBlock(medium, origins[i]);
+  });
+
+  auto majorant = openvdb::FloatGrid::create(0.0f);
+  majorant->setName("majorant");
+  auto accessor = majorant->getAccessor();
+  const auto blockOf = [](const openvdb::Coord& o) { return openvdb::Coord(o.x() >> 3, o.y() >> 3, o.z() >> 3); };
+  if (interpolation == Interpolation::kNearest) {
+    for (std::size_t i = 0; i < origins.size(); ++i) {
+      const openvdb::Coord a = blockOf(origins[i]);
+      if (bounds[i].max_rho_sqrt_lambda > 0)
+        accessor.setValue(a, std::max(bounds[i].max_rho_sqrt_lambda, accessor.getValue(a)));
+    }
+    return majorant;
+  }
+  // Trilinear: max(rho) and max(lambda) over each block and its 26 neighbours, then their product.
+  openvdb::FloatGrid rho_grid(0.0f), lambda_grid(0.0f);
+  auto rho_max = rho_grid.getAccessor();
+  auto lambda_max = lambda_grid.getAccessor();
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    if (!(bounds[i].max_rho > 0)) continue;
+    const openvdb::Coord a = blockOf(origins[i]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const openvdb::Coord n = a.offsetBy(dx, dy, dz);
+          rho_max.setValue(n, std::max(bounds[i].max_rho, rho_max.getValue(n)));
+          lambda_max.setValue(n, std::max(bounds[i].max_lambda, lambda_max.getValue(n)));
+        }
+  }
+  for (auto it = rho_grid.cbeginValueOn(); it; ++it)
+    accessor.setValue(it.getCoord(), *it * std::sqrt(lambda_max.getValue(it.getCoord())) * (1 + 1e-6f));
+  return majorant;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,460 @@
+#include "libvdbappear/medium/medium_view.h"
+
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/medium/majorant_grid.h"
+#include "libvdbappear/medium/majorant_traversal.h"
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <regex>
+
+namespace vdbappear {
+
+namespace {
+
+Vec3 toVec3(const openvdb::Vec3d& v) { return {v[0], v[1], v[2]}; }
+Vec3 toVec3(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
+Rgb toRgb(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
+
+template <typename GridT>
+typename GridT::Ptr findGrid(const Medium& medium, const std::string& name) {
+  for (const auto& grid : medium.other_grids)
+    if (grid->getName() == name) return openvdb::gridPtrCast<GridT>(grid);
+  return nullptr;
+}
+
+}  // namespace
+
+const char* phaseSourceName(PhaseSource source) {
+  switch (source) {
+    case PhaseSource::kLobes: return "multi-lobe SGGX (lobe grids)";
+    case PhaseSource::kSggx: return "SGGX";
+    case PhaseSource::kTable: return "tabulated (phase_table)";
+    case PhaseSource::kHgGrid: return "Henyey-Greenstein (hg_g grid)";
+    case PhaseSource::kHgConstant: return "Henyey-Greenstein (hg_g metadata)";
+    case PhaseSource::kIsotropic: return "isotropic";
+  }
+  return "?";
+}
+
+struct LobeGrids {
+  openvdb::Vec3SGrid::Ptr diag, offdiag, weight;
+};
+
+struct MediumView::Impl {
+  MediumPtr medium;
+  Interpolation interpolation = Interpolation::kNearest;
+  Mat3 world_to_index = Mat3::Identity();  // index = world_to_index * world + index_of_origin
+  Vec3 index_of_origin = Vec3::Zero();
+  openvdb::FloatGrid::Ptr majorant;
+  openvdb::math::BBox<openvdb::Vec3d> majorant_box;  // majorant space
+  Aabb bounds;
+  PhaseSource phase_source = PhaseSource::kIsotropic;
+  double hg_constant = 0;
+  std::vector<LobeGrids> lobes;
+  std::vector<TabulatedPhase> tables;
+  openvdb::Int32Grid::Ptr phase_id, cluster;
+  int cluster_count = 0;
+
+  void findTransform();
+  void findBounds();
+  void findPhaseSource();
+  void readLobes();
+  void readTables();
+  void readClusters();
+  [[noreturn]] void fail(const std::string& grid, const std::string& what) const {
+    throw MediumError(fmt::format("{}: grid '{}': {}", medium->source, grid, what));
+  }
+};
+
+void MediumView::Impl::findTransform() {
+  const openvdb::math::Transform& transform = medium->transform();
+  const openvdb::Vec3d b = transform.worldToIndex(openvdb::Vec3d(0, 0, 0));
+  index_of_origin = toVec3(b);
+  for (int axis = 0; axis < 3; ++axis) {
+    openvdb::Vec3d e(0, 0, 0);
+    e[axis] = 1;
+    world_to_index.col(axis) = toVec3(transform.worldToIndex(e) - b);
+  }
+}
+
+void MediumView::Impl::findBounds() {
+  const openvdb::CoordBBox box = medium->density->evalActiveVoxelBoundingBox();
+  for (int corner = 0; corner < 8; ++corner) {
+    const openvdb::Vec3d index((corner & 1 ? box.max().x() + 0.5 : box.min().x() - 0.5),
+                               (corner & 2 ? box.max().y() + 0.5 : box.min().y() - 0.5),
+                               (corner & 4 ? box.max().z() + 0.5 : box.min().z() - 0.5));
+    bounds.extend(toVec3(medium->transform().indexToWorld(index)));
+  }
+  const openvdb::CoordBBox m = majorant->evalActiveVoxelBoundingBox();
+  majorant_box = openvdb::math::BBox<openvdb::Vec3d>(m.min().asVec3d(), m.max().asVec3d() + openvdb::Vec3d(1.0));
+}
+
+void MediumView::Impl::findPhaseSource() {
+  if (findGrid<openvdb::Vec3SGrid>(*medium, "lobe0_weight")) {
+    phase_source = PhaseSource::kLobes;
+  } else if (medium->hasSggx()) {
+    phase_source = PhaseSource::kSggx;
+  } else if (findGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable)) {
+    phase_source = PhaseSource::kTable;
+  } else if (medium->hg_g) {
+    phase_source = PhaseSource::kHgGrid;
+  } else if (const auto g = hgGMetadata(medium->metadata)) {
+    phase_source = PhaseSource::kHgConstant;
+    hg_constant = *g;
+  }
+}
+
+// Lobe j has lobe{j}_weight and lobe{j}_diag (lobe{j}_offdiag optional: zeros). Where a lobe has
+// weight and the voxel has density, its S must be positive definite.
+void MediumView::Impl::readLobes() {
+  auto density = medium->density->getConstAccessor();
+  for (int j = 0;; ++j) {
+    LobeGrids lobe{findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_diag", j)),
+                   findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_offdiag", j)),
+                   findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_weight", j))};
+    if (!lobe.weight) break;
+    if (!lobe.diag) fail(fmt::format("lobe{}_weight", j), fmt::format("present without 'lobe{}_diag'", j));
+    if (int(lobes.size()) == ScatteringFunction::kMaxLobes)
+      fail(lobe.weight->getName(), fmt::format("more than {} lobes per voxel", ScatteringFunction::kMaxLobes));
+    auto diag = lobe.diag->getConstAccessor();
+    for (auto w = lobe.weight->cbeginValueOn(); w; ++w) {
+      if (!(w->x() > 0 || w->y() > 0 || w->z() > 0)) continue;
+      if ((w->x() < 0 || w->y() < 0 || w->z() < 0))
+        fail(lobe.weight->getName(), fmt::format("negative lobe weight at ({},{},{})", w.getCoord().x(), w.getCoord().y(), w.getCoord().z()));
+      const openvdb::Coord ijk = w.getCoord();
+      if (!(density.getValue(ijk) > 0)) continue;
+      const openvdb::Vec3s off = lobe.offdiag ? lobe.offdiag->tree().getValue(ijk) : openvdb::Vec3s(0.0f);
+      if (!isPositiveDefinite(toVec3(diag.getValue(ijk)), toVec3(off)))
+        fail(lobe.diag->getName(), fmt::format("S of a lobe with weight is not positive definite at voxel ({},{},{})",
+                                               ijk.x(), ijk.y(), ijk.z()));
+    }
+    lobes.push_back(lobe);
+  }
+}
+
+// Table t is the row y = t of phase_table, bins along x (docs/medium.md §6).
+void MediumView::Impl::readTables() {
+  const auto table = findGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable);
+  if (!table) return;
+  const openvdb::CoordBBox box = table->evalActiveVoxelBoundingBox();
+  int bins = box.max().x() + 1;
+  if (const auto meta = medium->metadata.getMetadata<openvdb::Int32Metadata>("phase_table_bins")) bins = meta->value();
+  if (box.empty() || box.min().x() < 0 || box.min().y() < 0 || bins < 1)
+    fail(grid_names::kPhaseTable, "expected tables at indices (bin >= 0, id >= 0, 0)");
+  auto values = table->getConstAccessor();
+  for (int id = 0; id <= box.max().y(); ++id) {
+    std::vector<double> f(bins);
+    for (int b = 0; b < bins; ++b) f[b] = values.getValue(openvdb::Coord(b, id, 0));
+    try {
+      tables.emplace_back(std::move(f));
+    } catch (const std::exception& e) {
+      fail(grid_names::kPhaseTable, fmt::format("table {}: {}", id, e.what()));
+    }
+  }
+  phase_id = findGrid<openvdb::Int32Grid>(*medium, grid_names::kPhaseId);
+  if (!phase_id) return;
+  const int count = int(tables.size());
+  if (phase_id->background() < 0 || phase_id->background() >= count)
+    fail(grid_names::kPhaseId, fmt::format("background {} outside 0..{}", phase_id->background(), count - 1));
+  for (auto id = phase_id->cbeginValueOn(); id; ++id)
+    if (*id < 0 || *id >= count)
+      fail(grid_names::kPhaseId, fmt::format("table id {} outside 0..{} at ({},{},{})", *id, count - 1,
+                                             id.getCoord().x(), id.getCoord().y(), id.getCoord().z()));
+}
+
+void MediumView::Impl::readClusters() {
+  cluster = findGrid<openvdb::Int32Grid>(*medium, grid_names::kCluster);
+  if (!cluster) return;
+  for (auto id = cluster->cbeginValueOn(); id; ++id) {
+    if (*id < 0) fail(grid_names::kCluster, fmt::format("negative cluster id {}", *id));
+    cluster_count = std::max(cluster_count, *id + 1);
+  }
+}
+
+MediumView::MediumView(MediumPtr medium, Interpolation interpolation) : impl_(std::make_unique<Impl>()) {
+  impl_->medium = std::move(medium);
+  impl_->interpolation = interpolation;
+  impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation);
+  impl_->findTransform();
+  impl_->findBounds();
+  impl_->findPhaseSource();
+  if (impl_->phase_source == PhaseSource::kLobes) impl_->readLobes();
+  if (impl_->phase_source == PhaseSource::kTable) impl_->readTables();
+  impl_->readClusters();
+}
+
+MediumView::~MediumView() = default;
+
+Aabb MediumView::worldBounds() const { return impl_->bounds; }
+Interpolation MediumView::interpolation() const { return impl_->interpolation; }
+PhaseSource MediumView::phaseSource() const { return impl_->phase_source; }
+int MediumView::lobeCount() const { return impl_->phase_source == PhaseSource::kLobes ? int(impl_->lobes.size()) : 1; }
+int MediumView::clusterCount() const { return impl_->cluster_count; }
+std::size_t MediumView::majorantVoxelCount() const { return impl_->majorant->activeVoxelCount(); }
+const std::string& MediumView::source() const { return impl_->medium->source; }
+std::unique_ptr<MediumLookup> MediumView::lookup() const { return std::make_unique<MediumLookup>(*impl_); }
+
+// ---------------------------------------------------------------------------------------------
+// Lookups
+
+template <typename GridT>
+using OptionalAccessor = std::optional<typename GridT::ConstAccessor>;
+
+template <typename GridT>
+OptionalAccessor<GridT> accessorOf(const typename GridT::Ptr& grid) {
+  if (!grid) return std::nullopt;
+  return grid->getConstAccessor();
+}
+
+struct LobeAccessors {
+  openvdb::Vec3SGrid::ConstAccessor diag;
+  OptionalAccessor<openvdb::Vec3SGrid> offdiag;
+  openvdb::Vec3SGrid::ConstAccessor weight;
+};
+
+struct MediumLookup::Accessors {
+  openvdb::FloatGrid::ConstAccessor density, majorant;
+  OptionalAccessor<openvdb::Vec3SGrid> albedo, diag, offdiag;
+  OptionalAccessor<openvdb::FloatGrid> hg_g;
+  OptionalAccessor<openvdb::Int32Grid> phase_id, cluster;
+  std::vector<LobeAccessors> lobes;
+
+  explicit Accessors(const MediumView::Impl& view)
+      : density(view.medium->density->getConstAccessor()),
+        majorant(view.majorant->getConstAccessor()),
+        albedo(accessorOf<openvdb::Vec3SGrid>(view.medium->albedo)),
+        diag(accessorOf<openvdb::Vec3SGrid>(view.medium->sggx_diag)),
+        offdiag(accessorOf<openvdb::Vec3SGrid>(view.medium->sggx_offdiag)),
+        hg_g(accessorOf<openvdb::FloatGrid>(view.medium->hg_g)),
+        phase_id(accessorOf<openvdb::Int32Grid>(view.phase_id)),
+        cluster(accessorOf<openvdb::Int32Grid>(view.cluster)) {
+    for (const LobeGrids& lobe : view.lobes)
+      lobes.push_back({lobe.diag->getConstAccessor(), accessorOf<openvdb::Vec3SGrid>(lobe.offdiag),
+                       lobe.weight->getConstAccessor()});
+  }
+
+  Mat3 S(const openvdb::Coord& ijk) {
+    if (!diag) return Mat3::Identity();
+    const openvdb::Vec3s off = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
+    return sggxMatrix(toVec3(diag->getValue(ijk)), toVec3(off));
+  }
+  double wSw(const openvdb::Coord& ijk, const Vec3& w) {  // w^T S w
+    if (!diag) return 1;
+    const openvdb::Vec3s d = diag->getValue(ijk);
+    const openvdb::Vec3s o = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
+    return d[0] * w.x() * w.x() + d[1] * w.y() * w.y() + d[2] * w.z() * w.z() +
+           2 * (o[0] * w.x() * w.y() + o[1] * w.x() * w.z() + o[2] * w.y() * w.z());
+  }
+  Rgb albedoAt(const openvdb::Coord& ijk) { return albedo ? toRgb(albedo->getValue(ijk)) : Rgb::Ones(); }
+  double hgAt(const openvdb::Coord& ijk) { return hg_g ? hg_g->getValue(ijk) : 0.0; }
+};
+
+namespace {
+
+// The 8 voxel centres around an index-space point and their trilinear weights.
+struct TrilinearStencil {
+  std::array<openvdb::Coord, 8> ijk;
+  std::array<double, 8> weight;
+  explicit TrilinearStencil(const Vec3& p) {
+    const openvdb::Coord base = openvdb::Coord::floor(openvdb::Vec3d(p.x(), p.y(), p.z()));
+    const Vec3 f = p - Vec3(base.x(), base.y(), base.z());
+    for (int c = 0; c < 8; ++c) {
+      ijk[c] = base.offsetBy(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+      weight[c] = (c & 1 ? f.x() : 1 - f.x()) * (c & 2 ? f.y() : 1 - f.y()) * (c & 4 ? f.z() : 1 - f.z());
+    }
+  }
+};
+
+openvdb::Coord nearestVoxel(const Vec3& p) {
+  return openvdb::Coord::round(openvdb::Vec3d(p.x(), p.y(), p.z()));
+}
+
+}  // namespace
+
+MediumLookup::MediumLookup(const MediumView::Impl& view)
+    : view_(view), accessors_(std::make_unique<Accessors>(view)) {}
+MediumLookup::~MediumLookup() = default;
+
+namespace {
+
+// sigma_t at an index-space point.
+double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, const Vec3& p, const Vec3& w) {
+  if (interpolation == Interpolation::kNearest) {
+    const openvdb::Coord ijk = nearestVoxel(p);
+    const double rho = a.density.getValue(ijk);
+    return rho > 0 ? rho * std::sqrt(std::max(0.0, a.wSw(ijk, w))) : 0.0;
+  }
+  // Trilinear: rho = sum w_c rho_c, S = sum w_c rho_c S_c / rho (density-weighted), so
+  // sigma_t = rho sqrt(w^T S w) = sqrt(rho * sum w_c rho_c w^T S_c w).
+  const TrilinearStencil stencil(p);
+  double rho = 0, rho_wSw = 0;
+  for (int c = 0; c < 8; ++c) {
+    const double r = a.density.getValue(stencil.ijk[c]);
+    if (!(r > 0)) continue;
+    rho += stencil.weight[c] * r;
+    rho_wSw += stencil.weight[c] * r * std::max(0.0, a.wSw(stencil.ijk[c], w));
+  }
+  return std::sqrt(rho * rho_wSw);
+}
+
+}  // namespace
+
+double MediumLookup::extinction(const Vec3& p, const Vec3& w) {
+  return extinctionAt(*accessors_, view_.interpolation, view_.world_to_index * p + view_.index_of_origin, w);
+}
+
+ScatteringFunction MediumLookup::scattering(const Vec3& world) {
+  Accessors& a = *accessors_;
+  const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
+  const openvdb::Coord ijk = nearestVoxel(p);
+  ScatteringFunction f;
+  PhaseLobe lobe;
+  if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: nearest voxel always
+    lobe.kind = PhaseKind::kSggx;
+    for (LobeAccessors& l : a.lobes) {
+      const Rgb weight = toRgb(l.weight.getValue(ijk));
+      if (!(weight > 0).any()) continue;
+      const openvdb::Vec3s off = l.offdiag ? l.offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
+      lobe.sggx = Sggx(sggxMatrix(toVec3(l.diag.getValue(ijk)), toVec3(off)));
+      f.addLobe(lobe, weight);
+    }
+    return f;
+  }
+  // Albedo, S and g: at the nearest voxel, or density-weighted over the trilinear stencil.
+  Rgb albedo = Rgb::Zero();
+  Mat3 S = Mat3::Zero();
+  double g = 0;
+  if (view_.interpolation == Interpolation::kNearest) {
+    albedo = a.albedoAt(ijk);
+    if (view_.phase_source == PhaseSource::kSggx) S = a.S(ijk);
+    if (view_.phase_source == PhaseSource::kHgGrid) g = a.hgAt(ijk);
+  } else {
+    const TrilinearStencil stencil(p);
+    double total = 0;
+    for (int c = 0; c < 8; ++c) {
+      const double w = stencil.weight[c] * std::max(0.0f, a.density.getValue(stencil.ijk[c]));
+      if (!(w > 0)) continue;
+      total += w;
+      albedo += w * a.albedoAt(stencil.ijk[c]);
+      if (view_.phase_source == PhaseSource::kSggx) S += w * a.S(stencil.ijk[c]);
+      if (view_.phase_source == PhaseSource::kHgGrid) g += w * a.hgAt(stencil.ijk[c]);
+    }
+    if (!(total > 0)) return f;  // no density here: nothing scatters
+    albedo /= total;
+    S /= total;
+    g /= total;
+  }
+  switch (view_.phase_source) {
+    case PhaseSource::kSggx:
+      lobe.kind = PhaseKind::kSggx;
+      lobe.sggx = Sggx(S);
+      break;
+    case PhaseSource::kTable:
+      lobe.kind = PhaseKind::kTabulated;
+      lobe.table = &view_.tables[a.phase_id ? a.phase_id->getValue(ijk) : 0];
+      break;
+    case PhaseSource::kHgGrid:
+    case PhaseSource::kHgConstant:
+      lobe.kind = PhaseKind::kHenyeyGreenstein;
+      lobe.g = view_.phase_source == PhaseSource::kHgGrid ? g : view_.hg_constant;
+      break;
+    default: break;  // isotropic
+  }
+  f.addLobe(lobe, albedo);
+  return f;
+}
+
+int MediumLookup::cluster(const Vec3& world) {
+  if (!accessors_->cluster) return -1;
+  const openvdb::Coord ijk = nearestVoxel(view_.world_to_index * world + view_.index_of_origin);
+  int id = 0;
+  return accessors_->cluster->probeValue(ijk, id) ? id : -1;
+}
+
+namespace {
+
+// The ray in majorant space (m = (index + 1/2) / 8), clipped to the majorant grid's box, with t
+// the world distance along the unit direction d.
+bool majorantRay(const MediumView::Impl& view, const Vec3& o, const Vec3& d, double t_max, MajorantRay* ray) {
+  const Vec3 o_m = (view.world_to_index * o + view.index_of_origin + Vec3::Constant(0.5)) / 8;
+  const Vec3 d_m = view.world_to_index * d / 8;
+  *ray = MajorantRay(openvdb::Vec3d(o_m.x(), o_m.y(), o_m.z()), openvdb::Vec3d(d_m.x(), d_m.y(), d_m.z()), 0.0, t_max);
+  return !view.majorant_box.empty() && ray->clip(view.majorant_box) && ray->t1() > ray->t0();
+}
+
+}  // namespace
+
+namespace {
+
+// Samples majorant events (tentative collisions) along the ray, exponentially distributed in the
+// majorant optical depth, and calls on_event(t, sigma_t(t), sigma_maj) for each, in order, until
+// it returns false or the ray ends (pbrt-v4's SampleT_maj).
+template <typename OnEvent>
+void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors& accessors, TrackingStats& stats,
+                          const Vec3& o, const Vec3& d, double t_max, RandomStream& rng, OnEvent&& on_event) {
+  MajorantRay ray;
+  if (!majorantRay(view, o, d, t_max, &ray)) return;
+  const Vec3 o_index = view.world_to_index * o + view.index_of_origin;
+  const Vec3 d_index = view.world_to_index * d;
+  double tau = -std::log1p(-rng.uniform());  // optical depth to the next event
+  forEachMajorantSegment(ray, accessors.majorant, [&](double t0, double t1, double sigma_maj) {
+    for (double t = t0;;) {
+      const double dt = tau / sigma_maj;
+      if (t + dt >= t1) {
+        tau -= sigma_maj * (t1 - t);
+        return true;
+      }
+      t += dt;
+      ++stats.tentative_collisions;
+      const double sigma_t = extinctionAt(accessors, view.interpolation, o_index + t * d_index, d);
+      if (sigma_t > sigma_maj) ++stats.majorant_violations;
+      if (!on_event(t, sigma_t, sigma_maj)) return false;
+      tau = -std::log1p(-rng.uniform());
+    }
+  });
+}
+
+}  // namespace
+
+std::optional<double> MediumLookup::sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng) {
+  std::optional<double> collision;
+  forEachMajorantEvent(view_, *accessors_, stats_, o, d, t_max, rng, [&](double t, double sigma_t, double sigma_maj) {
+    if (rng.uniform() * sigma_maj >= sigma_t) return true;  // a null collision
+    collision = t;
+    return false;
+  });
+  return collision;
+}
+
+double MediumLookup::transmittance(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng) {
+  double T = 1;
+  forEachMajorantEvent(view_, *accessors_, stats_, o, d, t_max, rng, [&](double, double sigma_t, double sigma_maj) {
+    T *= 1 - sigma_t / sigma_maj;
+    if (T < 0.1) {  // Russian roulette keeps the estimate unbiased
+      if (rng.uniform() >= 0.5) {
+        T = 0;
+        return false;
+      }
+      T *= 2;
+    }
+    return true;
+  });
+  return std::max(T, 0.0);
+}
+
+double MediumLookup::majorantOpticalDepth(const Vec3& o, const Vec3& d, double t_max) {
+  MajorantRay ray;
+  if (!majorantRay(view_, o, d, t_max, &ray)) return 0;
+  double depth = 0;
+  forEachMajorantSegment(ray, accessors_->majorant, [&](double t0, double t1, double sigma_maj) {
+    depth += sigma_maj * (t1 - t0);
+    return true;
+  });
+  return depth;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,76 @@
+#include "libvdbappear/medium/scattering_function.h"
+
+#include "libvdbappear/math/henyey_greenstein.h"
+#include "libvdbappear/math/sampling.h"
+
+#include <stdexcept>
+
+namespace vdbappear {
+
+double PhaseLobe::eval(const Vec3& wi, const Vec3& wo) const {
+  switch (kind) {
+    case PhaseKind::kIsotropic: return uniformSpherePdf();
+    case PhaseKind::kHenyeyGreenstein: return henyeyGreensteinPhase(wi, wo, g);
+    case PhaseKind::kSggx: return sggx.phase(wi, wo);
+    case PhaseKind::kTabulated: return table->phase(wi, wo);
+  }
+  return 0;
+}
+
+PhaseSample PhaseLobe::sample(const Vec3& wi, const Point2& u) const {
+  switch (kind) {
+    case PhaseKind::kIsotropic: return {sampleUniformSphere(u), uniformSpherePdf(), 1.0};
+    case PhaseKind::kHenyeyGreenstein: return sampleHenyeyGreenstein(wi, g, u);
+    case PhaseKind::kSggx: return sggx.samplePhase(wi, u);
+    case PhaseKind::kTabulated: return table->sample(wi, u);
+  }
+  return {};
+}
+
+void ScatteringFunction::addLobe(const PhaseLobe& lobe, const Rgb& weight) {
+  if (lobe_count_ == kMaxLobes) throw std::length_error("ScatteringFunction: too many lobes");
+  lobes_[lobe_count_] = lobe;
+  weights_[lobe_count_] = weight;
+  ++lobe_count_;
+  double total = 0;
+  for (int j = 0; j < lobe_count_; ++j) total += average(weights_[j]);
+  for (int j = 0; j < lobe_count_; ++j)
+    pick_probability_[j] = total > 0 ? average(weights_[j]) / total : 1.0 / lobe_count_;
+}
+
+Rgb ScatteringFunction::albedo() const {
+  Rgb sum = Rgb::Zero();
+  for (int j = 0; j < lobe_count_; ++j) sum += weights_[j];
+  return sum;
+}
+
+Rgb ScatteringFunction::eval(const Vec3& wi, const Vec3& wo) const {
+  Rgb f = Rgb::Zero();
+  for (int j = 0; j < lobe_count_; ++j)
+    if ((weights_[j] > 0).any()) f += weights_[j] * lobes_[j].eval(wi, wo);
+  return f;
+}
+
+double ScatteringFunction::pdf(const Vec3& wi, const Vec3& wo) const {
+  double p = 0;
+  for (int j = 0; j < lobe_count_; ++j)
+    if (pick_probability_[j] > 0) p += pick_probability_[j] * lobes_[j].eval(wi, wo);
+  return p;
+}
+
+ScatterSample ScatteringFunction::sample(const Vec3& wi, double u_lobe, const Point2& u) const {
+  if (lobe_count_ == 0) return {};
+  int j = 0;
+  for (double cdf = pick_probability_[0]; j + 1 < lobe_count_ && u_lobe >= cdf; cdf += pick_probability_[++j]) {
+  }
+  if (lobe_count_ == 1) {
+    const PhaseSample s = lobes_[0].sample(wi, u);
+    return {s.wo, s.pdf, s.pdf > 0 ? Rgb(weights_[0] * s.weight) : Rgb(Rgb::Zero())};
+  }
+  const PhaseSample s = lobes_[j].sample(wi, u);
+  if (!(s.pdf > 0)) return {};
+  const double pdf_all = pdf(wi, s.wo);
+  return {s.wo, pdf_all, pdf_all > 0 ? Rgb(eval(wi, s.wo) / pdf_all) : Rgb(Rgb::Zero())};
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,135 @@
+#include "libvdbappear/render/render_image.h"
+
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/util/stopwatch.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+
+namespace vdbappear {
+
+namespace {
+
+// Running sums of one pixel.
+struct PixelSums {
+  Rgb sum = Rgb::Zero(), sum_squares = Rgb::Zero();
+};
+
+struct ThreadState {
+  std::unique_ptr<MediumLookup> lookup;
+  std::uint64_t paths = 0, events = 0;
+};
+
+class Film {
+ public:
+  Film(int width, int height, int clusters)
+      : width_(width), clusters_(clusters), pixels_(std::size_t(width) * height),
+        coverage_(std::size_t(width) * height * clusters, 0) {}
+
+  void add(int x, int y, const PathSample& s) {
+    PixelSums& p = pixels_[std::size_t(y) * width_ + x];
+    p.sum += s.L;
+    p.sum_squares += s.L * s.L;
+    if (clusters_ > 0 && s.first_cluster >= 0 && s.first_cluster < clusters_)
+      ++coverage_[(std::size_t(y) * width_ + x) * clusters_ + s.first_cluster];
+  }
+
+  void resolve(int spp, RenderResult* result) const {
+    result->mean.assign(pixels_.size() * 3, 0.0f);
+    result->variance.assign(pixels_.size() * 3, 0.0f);
+    for (std::size_t i = 0; i < pixels_.size(); ++i) {
+      const Rgb mean = pixels_[i].sum / spp;
+      const Rgb sample_variance = spp > 1 ? Rgb((pixels_[i].sum_squares - spp * mean * mean) / (spp - 1)) : Rgb(Rgb::Zero());
+      for (int c = 0; c < 3; ++c) {
+        result->mean[3 * i + c] = float(mean[c]);
+        result->variance[3 * i + c] = float(std::max(0.0, sample_variance[c]) / spp);
+      }
+    }
+    if (clusters_ == 0) return;
+    result->cluster_coverage.resize(coverage_.size());
+    for (std::size_t i = 0; i < coverage_.size(); ++i) result->cluster_coverage[i] = float(double(coverage_[i]) / spp);
+  }
+
+ private:
+  int width_, clusters_;
+  std::vector<PixelSums> pixels_;
+  std::vector<std::uint32_t> coverage_;
+};
+
+// Samples [first, last) of every pixel.
+void renderPass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first,
+                int last, Film& film, tbb::enumerable_thread_specific<ThreadState>& threads, ProgressBar* progress) {
+  const VolumePathTracer tracer(scene, settings.path);
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, settings.height, 8, 0, settings.width, 8), [&](const auto& tile) {
+    ThreadState& state = threads.local();
+    if (scene.medium && !state.lookup) state.lookup = scene.medium->lookup();
+    for (int y = tile.rows().begin(); y != tile.rows().end(); ++y)
+      for (int x = tile.cols().begin(); x != tile.cols().end(); ++x)
+        for (int s = first; s < last; ++s) {
+          RandomStream rng(settings.seed, {x, y, s});
+          const Point2 jitter = rng.uniform2();
+          const PathSample sample = tracer.trace(camera.ray(x + jitter.x(), y + jitter.y()), rng, state.lookup.get());
+          film.add(x, y, sample);
+          ++state.paths;
+          state.events += sample.scattering_events;
+        }
+    if (progress) progress->advance(std::uint64_t(tile.rows().size()) * tile.cols().size() * (last - first));
+  });
+}
+
+}  // namespace
+
+RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings,
+                         ProgressBar* progress) {
+  const Stopwatch clock;
+  const int clusters = settings.cluster_coverage && scene.medium ? scene.medium->clusterCount() : 0;
+  Film film(settings.width, settings.height, clusters);
+  tbb::enumerable_thread_specific<ThreadState> threads;
+  const std::uint64_t pixels = std::uint64_t(settings.width) * settings.height;
+  int done = 0;
+  if (settings.time_seconds > 0) {
+    // Passes of samples until the time is spent: one sample first, then passes sized to take about
+    // a quarter of the time left. Each sample is still keyed by its index, so a run that ends
+    // with the same count is identical.
+    if (progress) progress->setTotal(std::uint64_t(settings.time_seconds * 1000));
+    int pass = 1;
+    std::uint64_t shown_ms = 0;
+    while (done < settings.spp) {
+      const int last = std::min(settings.spp, done + pass);
+      renderPass(scene, camera, settings, done, last, film, threads, nullptr);
+      done = last;
+      const double elapsed = clock.seconds();
+      const auto elapsed_ms = std::uint64_t(std::min(elapsed, settings.time_seconds) * 1000);
+      if (progress) progress->advance(elapsed_ms - shown_ms);
+      shown_ms = elapsed_ms;
+      if (elapsed >= settings.time_seconds) break;
+      const double per_sample = elapsed / done;
+      pass = std::max(1, int((settings.time_seconds - elapsed) / 4 / per_sample));
+    }
+  } else {
+    if (progress) progress->setTotal(pixels * settings.spp);
+    renderPass(scene, camera, settings, 0, settings.spp, film, threads, progress);
+    done = settings.spp;
+  }
+  if (progress) progress->finish();
+
+  RenderResult result;
+  result.width = settings.width;
+  result.height = settings.height;
+  result.spp = done;
+  result.cluster_count = clusters;
+  film.resolve(done, &result);
+  for (const ThreadState& state : threads) {
+    result.paths += state.paths;
+    result.scattering_events += state.events;
+    if (state.lookup) result.tracking += state.lookup->stats();
+  }
+  result.seconds = clock.seconds();
+  return result;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,61 @@
+#include "libvdbappear/render/render_output.h"
+
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace vdbappear {
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension;
+}
+
+}  // namespace
+
+ImageChannels renderChannels(const RenderResult& result, bool variance, bool clusters) {
+  ImageChannels image;
+  image.width = result.width;
+  image.height = result.height;
+  image.names = {"R", "G", "B"};
+  if (variance) image.names.insert(image.names.end(), {"variance.R", "variance.G", "variance.B"});
+  const int K = clusters ? result.cluster_count : 0;
+  for (int k = 0; k < K; ++k) image.names.push_back(fmt::format("cluster.{}", k));
+  const std::size_t n = image.names.size(), pixels = std::size_t(result.width) * result.height;
+  image.values.resize(pixels * n);
+  for (std::size_t i = 0; i < pixels; ++i) {
+    float* out = &image.values[i * n];
+    for (int c = 0; c < 3; ++c) *out++ = result.mean[3 * i + c];
+    if (variance)
+      for (int c = 0; c < 3; ++c) *out++ = result.variance[3 * i + c];
+    for (int k = 0; k < K; ++k) *out++ = result.cluster_coverage[i * K + k];
+  }
+  return image;
+}
+
+RgbImage renderRgb(const RenderResult& result) {
+  RgbImage image(result.width, result.height);
+  image.pixels = result.mean;
+  return image;
+}
+
+void writeRenderOutputs(const RenderResult& result, const RenderOutputs& outputs) {
+  const std::string extension = lowerExtension(outputs.image);
+  if (extension == ".exr") {
+    writeExr(renderChannels(result, outputs.variance, outputs.clusters), outputs.image);
+  } else {
+    if (outputs.variance || outputs.clusters)
+      throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
+    writeImage(renderRgb(result), outputs.image);
+  }
+  if (!outputs.preview.empty()) writeImage(renderRgb(result), outputs.preview);
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,20 @@
+#pragma once
+// Everything a path sees: an optional medium, the lights, the opaque surfaces.
+
+#include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/render/light.h"
+#include "libvdbappear/render/surface_scene.h"
+
+#include <memory>
+#include <vector>
+
+namespace vdbappear {
+
+struct RenderScene {
+  std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
+  std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
+  std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
+  double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
+};
+
+}  // namespace vdbappear

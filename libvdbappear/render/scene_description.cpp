@@ -1,0 +1,244 @@
+#include "libvdbappear/render/scene_description.h"
+
+#include "libvdbappear/render/area_light.h"
+#include "libvdbappear/render/environment_light.h"
+#include "libvdbappear/render/mesh_file.h"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace vdbappear {
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& source, const std::string& key, const std::string& what) {
+  throw std::runtime_error(fmt::format("{}: {}: {}", source, key, what));
+}
+
+Vec3 vec3Of(const json& value, const std::string& source, const std::string& key) {
+  if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() || !value[2].is_number())
+    fail(source, key, "expected [x, y, z]");
+  return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
+// A number (grey) or [r, g, b].
+Rgb rgbOf(const json& value, const std::string& source, const std::string& key) {
+  if (value.is_number()) return Rgb::Constant(value.get<double>());
+  const Vec3 v = vec3Of(value, source, key);
+  return {v.x(), v.y(), v.z()};
+}
+
+std::string resolve(const std::string& folder, const std::string& path) {
+  if (folder.empty() || path.empty() || path == "-" || std::filesystem::path(path).is_absolute()) return path;
+  return (std::filesystem::path(folder) / path).lexically_normal().string();
+}
+
+template <typename T>
+T numberOf(const json& value, const std::string& source, const std::string& key) {
+  if (!value.is_number()) fail(source, key, "expected a number");
+  return value.get<T>();
+}
+
+void checkKeys(const json& object, std::initializer_list<const char*> allowed, const std::string& source,
+               const std::string& where) {
+  if (!object.is_object()) fail(source, where, "expected a JSON object");
+  for (const auto& item : object.items()) {
+    bool known = false;
+    for (const char* key : allowed) known = known || item.key() == key;
+    if (!known) fail(source, where.empty() ? item.key() : where + "." + item.key(), "unknown key");
+  }
+}
+
+void applyCamera(const json& camera, const std::string& source, SceneDescription* scene) {
+  checkKeys(camera, {"position", "target", "up", "fov", "view"}, source, "camera");
+  if (camera.contains("position")) {
+    scene->camera.position = vec3Of(camera["position"], source, "camera.position");
+    scene->camera_given = true;
+  }
+  if (camera.contains("target")) scene->camera.target = vec3Of(camera["target"], source, "camera.target");
+  if (camera.contains("up")) scene->camera.up = vec3Of(camera["up"], source, "camera.up");
+  if (camera.contains("fov")) scene->camera.fov_degrees = numberOf<double>(camera["fov"], source, "camera.fov");
+  if (camera.contains("view")) scene->view = camera["view"].get<std::string>();
+}
+
+// Checks a light's keys and makes its paths absolute.
+json checkedLight(json light, const std::string& folder, const std::string& source, const std::string& where) {
+  if (!light.is_object() || !light.contains("type") || !light["type"].is_string())
+    fail(source, where, "a light needs a \"type\"");
+  const std::string type = light["type"];
+  if (type == "env") checkKeys(light, {"type", "radiance"}, source, where);
+  else if (type == "env_map") checkKeys(light, {"type", "file", "scale"}, source, where);
+  else if (type == "sh") checkKeys(light, {"type", "l", "m", "scale"}, source, where);
+  else if (type == "sun") checkKeys(light, {"type", "direction", "strength"}, source, where);
+  else if (type == "point") checkKeys(light, {"type", "position", "intensity"}, source, where);
+  else if (type == "quad") checkKeys(light, {"type", "corner", "edge1", "edge2", "radiance", "two_sided"}, source, where);
+  else if (type == "polygon" || type == "triangle") checkKeys(light, {"type", "vertices", "radiance", "two_sided"}, source, where);
+  else fail(source, where, "unknown light type '" + type + "' (env, env_map, sh, sun, point, quad, polygon)");
+  if (type == "env_map") {
+    if (!light.contains("file") || !light["file"].is_string()) fail(source, where, "env_map needs a \"file\"");
+    light["file"] = resolve(folder, light["file"]);
+  }
+  return light;
+}
+
+}  // namespace
+
+void applySceneJson(const json& json, const std::string& folder, const std::string& source, SceneDescription* scene) {
+  checkKeys(json, {"medium", "resolution", "spp", "time", "seed", "max_depth", "interp", "strategy", "camera",
+                   "lights", "ground", "meshes"},
+            source, "");
+  if (json.contains("medium")) scene->medium = resolve(folder, json["medium"].get<std::string>());
+  if (json.contains("resolution")) {
+    const auto& r = json["resolution"];
+    if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+      fail(source, "resolution", "expected [width, height]");
+    scene->render.width = r[0];
+    scene->render.height = r[1];
+  }
+  if (json.contains("spp")) scene->render.spp = numberOf<int>(json["spp"], source, "spp");
+  if (json.contains("time")) {
+    scene->render.time_seconds = numberOf<double>(json["time"], source, "time");
+    if (!json.contains("spp")) scene->render.spp = 1 << 30;  // the time decides
+  }
+  if (json.contains("seed")) scene->render.seed = numberOf<std::uint64_t>(json["seed"], source, "seed");
+  if (json.contains("max_depth")) scene->render.path.max_depth = numberOf<int>(json["max_depth"], source, "max_depth");
+  if (json.contains("interp")) scene->interpolation = parseInterpolation(json["interp"].get<std::string>());
+  if (json.contains("strategy")) scene->render.path.strategy = parseLightStrategy(json["strategy"].get<std::string>());
+  if (json.contains("camera")) applyCamera(json["camera"], source, scene);
+  if (json.contains("lights")) {
+    if (!json["lights"].is_array()) fail(source, "lights", "expected an array");
+    scene->lights = nlohmann::json::array();
+    for (std::size_t i = 0; i < json["lights"].size(); ++i)
+      scene->lights.push_back(checkedLight(json["lights"][i], folder, source, fmt::format("lights[{}]", i)));
+  }
+  if (json.contains("ground")) {
+    checkKeys(json["ground"], {"height", "albedo"}, source, "ground");
+    GroundDescription ground;
+    if (json["ground"].contains("height")) ground.height = numberOf<double>(json["ground"]["height"], source, "ground.height");
+    if (json["ground"].contains("albedo")) ground.albedo = rgbOf(json["ground"]["albedo"], source, "ground.albedo");
+    scene->ground = ground;
+  }
+  if (json.contains("meshes")) {
+    for (std::size_t i = 0; i < json["meshes"].size(); ++i) {
+      const auto& m = json["meshes"][i];
+      const std::string where = fmt::format("meshes[{}]", i);
+      checkKeys(m, {"file", "albedo"}, source, where);
+      if (!m.contains("file")) fail(source, where, "a mesh needs a \"file\"");
+      MeshDescription mesh{resolve(folder, m["file"].get<std::string>())};
+      if (m.contains("albedo")) mesh.albedo = rgbOf(m["albedo"], source, where + ".albedo");
+      scene->meshes.push_back(mesh);
+    }
+  }
+}
+
+SceneDescription readSceneFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the scene file");
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: not valid JSON ({})", path, e.what()));
+  }
+  SceneDescription scene;
+  try {
+    applySceneJson(json, std::filesystem::path(path).parent_path().string(), path, &scene);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
+  }
+  return scene;
+}
+
+namespace {
+
+std::unique_ptr<Light> makeLight(const json& light, const ImageReader& read_image, std::vector<Triangle>* triangles) {
+  const std::string type = light["type"];
+  const std::string source = "light";
+  if (type == "env") return EnvironmentLight::constant(rgbOf(light.value("radiance", json(1.0)), source, "radiance"));
+  if (type == "env_map") {
+    const RgbImage image = read_image(light["file"].get<std::string>());
+    return EnvironmentLight::fromImage(image.width, image.height, image.pixels, light.value("scale", 1.0));
+  }
+  if (type == "sh") return EnvironmentLight::sphericalHarmonic(light.value("l", 0), light.value("m", 0), light.value("scale", 1.0));
+  if (type == "sun")
+    return std::make_unique<DirectionalLight>(vec3Of(light["direction"], source, "direction"),
+                                              rgbOf(light.value("strength", json(1.0)), source, "strength"));
+  if (type == "point")
+    return std::make_unique<PointLight>(vec3Of(light["position"], source, "position"),
+                                        rgbOf(light.value("intensity", json(1.0)), source, "intensity"));
+  std::vector<Vec3> vertices;
+  if (type == "quad") {
+    const Vec3 corner = vec3Of(light["corner"], source, "corner");
+    const Vec3 e1 = vec3Of(light["edge1"], source, "edge1"), e2 = vec3Of(light["edge2"], source, "edge2");
+    vertices = {corner, corner + e1, corner + e1 + e2, corner + e2};
+  } else {
+    for (const auto& v : light["vertices"]) vertices.push_back(vec3Of(v, source, "vertices"));
+  }
+  *triangles = AreaLight::fanTriangulate(vertices);
+  return std::make_unique<AreaLight>(*triangles, rgbOf(light.value("radiance", json(1.0)), source, "radiance"),
+                                     light.value("two_sided", false));
+}
+
+std::vector<Triangle> groundPlane(double height, const Aabb& around) {
+  const Vec3 c = around.empty() ? Vec3::Zero() : around.centre();
+  const double r = 100 * std::max(1.0, around.empty() ? 1.0 : around.extent().norm());
+  const Vec3 a(c.x() - r, c.y() - r, height), b(c.x() + r, c.y() - r, height), d(c.x() + r, c.y() + r, height),
+      e(c.x() - r, c.y() + r, height);
+  return {{a, b, d}, {a, d, e}};  // counter-clockwise seen from +z: normal +z
+}
+
+}  // namespace
+
+RenderScene buildRenderScene(const SceneDescription& description, std::shared_ptr<const MediumView> medium,
+                             const ImageReader& read_image) {
+  RenderScene scene;
+  scene.medium = std::move(medium);
+  const Aabb bounds = scene.medium ? scene.medium->worldBounds() : Aabb();
+  scene.surfaces = std::make_unique<SurfaceScene>();
+  Aabb everything = bounds;
+  for (std::size_t i = 0; i < description.lights.size(); ++i) {
+    std::vector<Triangle> triangles;
+    try {
+      scene.lights.push_back(makeLight(description.lights[i], read_image, &triangles));
+    } catch (const nlohmann::json::exception& e) {
+      throw std::runtime_error(fmt::format("lights[{}]: {}", i, e.what()));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(fmt::format("lights[{}]: {}", i, e.what()));
+    }
+    if (!triangles.empty()) scene.surfaces->addLight(triangles, int(i));
+    for (const Triangle& t : triangles)
+      for (const Vec3& v : t) everything.extend(v);
+  }
+  for (const MeshDescription& mesh : description.meshes) {
+    const std::vector<Triangle> triangles = readMesh(mesh.file);
+    scene.surfaces->addDiffuse(triangles, mesh.albedo);
+    for (const Triangle& t : triangles)
+      for (const Vec3& v : t) everything.extend(v);
+  }
+  if (description.ground) {
+    const double height = description.ground->height.value_or(bounds.empty() ? 0.0 : bounds.lo.z());
+    scene.surfaces->addDiffuse(groundPlane(height, bounds), description.ground->albedo);
+  }
+  scene.surfaces->commit();
+  if (scene.surfaces->empty()) scene.surfaces.reset();
+  scene.ray_epsilon = 1e-5 * std::max(1.0, everything.empty() ? 1.0 : everything.extent().norm());
+  return scene;
+}
+
+CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium) {
+  const double aspect = double(scene.render.width) / scene.render.height;
+  if (scene.view || !scene.camera_given) {
+    if (!medium) throw std::runtime_error("--view needs a medium to frame; give --camera-pos and --camera-target");
+    return framedView(medium->worldBounds(), scene.view.value_or("+z"), scene.camera.fov_degrees, aspect);
+  }
+  return scene.camera;
+}
+
+}  // namespace vdbappear

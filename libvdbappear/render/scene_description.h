@@ -1,0 +1,63 @@
+#pragma once
+// A render as data: what `vdb_render --scene FILE.json` reads and what its flags set (flags
+// override the file). docs/rendering.md documents every key. Lights stay JSON objects, one schema
+// for the file and the flags:
+//   {"type": "env", "radiance": L | [r,g,b]}
+//   {"type": "env_map", "file": "sky.exr", "scale": 1}
+//   {"type": "sh", "l": 1, "m": 0, "scale": 1}
+//   {"type": "sun", "direction": [dx,dy,dz], "strength": E | [r,g,b]}     direction: where light travels
+//   {"type": "point", "position": [x,y,z], "intensity": I | [r,g,b]}
+//   {"type": "quad", "corner": p, "edge1": e1, "edge2": e2, "radiance": L, "two_sided": false}
+//   {"type": "polygon", "vertices": [p0, p1, ...], "radiance": L, "two_sided": false}
+
+#include "libvdbappear/image/rgb_image.h"
+#include "libvdbappear/medium/interpolation.h"
+#include "libvdbappear/render/camera.h"
+#include "libvdbappear/render/render_image.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vdbappear {
+
+struct MeshDescription {
+  std::string file;
+  Rgb albedo = Rgb::Constant(0.5);
+};
+
+struct GroundDescription {
+  std::optional<double> height;  // z of the plane; default: the bottom of the medium's bounds
+  Rgb albedo = Rgb::Constant(0.5);
+};
+
+struct SceneDescription {
+  std::string medium;                // path; "" for none
+  std::optional<std::string> view;   // +x ... -z: frames the medium (camera position/target/up ignored)
+  CameraPose camera;
+  bool camera_given = false;         // position/target set explicitly
+  Interpolation interpolation = Interpolation::kNearest;
+  RenderSettings render;
+  nlohmann::json lights = nlohmann::json::array();
+  std::optional<GroundDescription> ground;
+  std::vector<MeshDescription> meshes;
+};
+
+// Reads a scene file; relative paths in it (medium, meshes, environment maps) are taken relative
+// to the file's folder. Throws std::runtime_error "FILE: KEY: what is wrong".
+SceneDescription readSceneFile(const std::string& path);
+// Applies the keys of a JSON object to `scene` (the file's content; `folder` resolves paths).
+void applySceneJson(const nlohmann::json& json, const std::string& folder, const std::string& source,
+                    SceneDescription* scene);
+
+// Builds the lights and surfaces. read_image loads environment maps (the image library's
+// readRgbImage in tools). The camera is framed with --view on the medium's bounds when asked.
+using ImageReader = std::function<RgbImage(const std::string&)>;
+RenderScene buildRenderScene(const SceneDescription& scene, std::shared_ptr<const MediumView> medium,
+                             const ImageReader& read_image);
+CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium);
+
+}  // namespace vdbappear

@@ -1,0 +1,42 @@
+#pragma once
+// Opaque surfaces, intersected through Embree 3: diffuse meshes (OBJ/PLY, the ground plane) and
+// the triangles of area lights. Embree stays behind the implementation.
+
+#include "libvdbappear/math/rgb.h"
+#include "libvdbappear/render/area_light.h"  // Triangle
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace vdbappear {
+
+struct SurfaceHit {
+  double t = 0;
+  Vec3 normal;        // unit geometric normal, counter-clockwise orientation (not flipped)
+  Rgb albedo;         // diffuse reflectance (meshes)
+  int light = -1;     // index of the area light hit, or -1 for a diffuse surface
+};
+
+class SurfaceScene {
+ public:
+  SurfaceScene();
+  ~SurfaceScene();
+  SurfaceScene(const SurfaceScene&) = delete;
+  SurfaceScene& operator=(const SurfaceScene&) = delete;
+
+  void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
+  void addLight(const std::vector<Triangle>& triangles, int light_index);
+  void commit();  // after the last add, before any query
+  bool empty() const;
+
+  // Closest hit with t in (t_min, t_max).
+  std::optional<SurfaceHit> intersect(const Vec3& o, const Vec3& d, double t_min, double t_max) const;
+  bool occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vdbappear

@@ -1,0 +1,145 @@
+#include "libvdbappear/render/volume_path_tracer.h"
+
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/frame.h"
+#include "libvdbappear/math/sampling.h"
+#include "libvdbappear/render/area_light.h"
+
+#include <stdexcept>
+
+namespace vdbappear {
+
+LightStrategy parseLightStrategy(const std::string& name) {
+  if (name == "mis") return LightStrategy::kMis;
+  if (name == "light") return LightStrategy::kLightOnly;
+  if (name == "phase") return LightStrategy::kPhaseOnly;
+  throw std::invalid_argument("light strategy '" + name + "': expected mis, light or phase");
+}
+
+// A scattering vertex: in the medium (scattering function) or on a diffuse surface.
+struct VolumePathTracer::Vertex {
+  Vec3 p;
+  Vec3 wi;  // back along the incoming ray
+  bool on_surface = false;
+  ScatteringFunction medium;
+  Vec3 normal;  // surfaces: facing wi
+  Rgb albedo;
+
+  Rgb eval(const Vec3& wo) const {
+    if (!on_surface) return medium.eval(wi, wo);
+    return albedo * (std::max(0.0, normal.dot(wo)) / kPi);  // Lambertian f cos
+  }
+  double pdf(const Vec3& wo) const { return on_surface ? cosineHemispherePdf(normal.dot(wo)) : medium.pdf(wi, wo); }
+  ScatterSample sample(RandomStream& rng) const {
+    const double u_lobe = rng.uniform();
+    const Point2 u = rng.uniform2();
+    if (!on_surface) return medium.sample(wi, u_lobe, u);
+    const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
+    const double pdf = cosineHemispherePdf(normal.dot(wo));
+    return {wo, pdf, pdf > 0 ? albedo : Rgb(Rgb::Zero())};
+  }
+  Vec3 origin() const { return p; }
+};
+
+double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng,
+                                       MediumLookup* lookup) const {
+  const double eps = scene_.ray_epsilon;
+  if (scene_.surfaces && scene_.surfaces->occluded(p, w, eps, distance * (1 - 1e-6) - eps)) return 0;
+  return lookup ? lookup->transmittance(p, w, distance, rng) : 1.0;
+}
+
+// One light, picked uniformly, sampled at the vertex; MIS-weighted against the vertex's own sampling.
+Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
+  const int count = int(scene_.lights.size());
+  const double u_pick = rng.uniform();
+  const Point2 u = rng.uniform2();
+  if (count == 0) return Rgb::Zero();
+  const Light& light = *scene_.lights[std::min(int(u_pick * count), count - 1)];
+  const double p_pick = 1.0 / count;
+  if (!light.isDelta() && settings_.strategy == LightStrategy::kPhaseOnly) return Rgb::Zero();
+  const LightSample ls = light.sample(vertex.p, u);
+  if (!(ls.pdf > 0) || (ls.Li == 0).all()) return Rgb::Zero();
+  const Rgb f = vertex.eval(ls.wi);
+  if ((f == 0).all()) return Rgb::Zero();
+  const double T = transmittance(vertex.origin(), ls.wi, ls.distance, rng, lookup);
+  if (!(T > 0)) return Rgb::Zero();
+  double weight = 1;
+  if (!ls.is_delta && settings_.strategy == LightStrategy::kMis)
+    weight = powerHeuristic(p_pick * ls.pdf, vertex.pdf(ls.wi));
+  return f * ls.Li * (T * weight / (p_pick * ls.pdf));
+}
+
+// Radiance of the environment lights along a ray that left the scene.
+Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const {
+  Rgb L = Rgb::Zero();
+  const double p_pick = scene_.lights.empty() ? 0 : 1.0 / scene_.lights.size();
+  for (const auto& light : scene_.lights) {
+    if (!light->isEnvironment()) continue;
+    const Rgb Le = light->radiance(ray.d);
+    if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
+      L += Le;
+    } else if (settings_.strategy == LightStrategy::kMis) {
+      L += Le * powerHeuristic(prev_pdf, p_pick * light->pdf(ray.o, ray.d));
+    }
+  }
+  return L;
+}
+
+PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* lookup) const {
+  PathSample result;
+  Rgb beta = Rgb::Ones();
+  double prev_pdf = 0;  // solid-angle pdf of the direction sampled at the previous vertex
+  const int max_depth = settings_.max_depth < 0 ? std::numeric_limits<int>::max() : settings_.max_depth;
+  const double eps = scene_.ray_epsilon;
+  for (int depth = 0;; ++depth) {
+    const bool camera_ray = depth == 0;
+    std::optional<SurfaceHit> hit;
+    if (scene_.surfaces) hit = scene_.surfaces->intersect(ray.o, ray.d, camera_ray ? 0.0 : eps, kInfinity);
+    const double t_surface = hit ? hit->t : kInfinity;
+    std::optional<double> t_medium;
+    if (lookup) t_medium = lookup->sampleCollision(ray.o, ray.d, t_surface, rng);
+
+    Vertex vertex;
+    vertex.wi = -ray.d;
+    if (t_medium) {
+      vertex.p = ray(*t_medium);
+      if (camera_ray) result.first_cluster = lookup->cluster(vertex.p);
+      vertex.medium = lookup->scattering(vertex.p);
+    } else if (hit && hit->light >= 0) {
+      const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
+      const Rgb Le = light.emitted(hit->normal, -ray.d);
+      if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
+        result.L += beta * Le;
+      } else if (settings_.strategy == LightStrategy::kMis) {
+        const double p_pick = 1.0 / scene_.lights.size();
+        result.L += beta * Le * powerHeuristic(prev_pdf, p_pick * light.pdf(ray.o, ray(hit->t), hit->normal));
+      }
+      break;
+    } else if (hit) {
+      vertex.on_surface = true;
+      vertex.normal = hit->normal.dot(ray.d) < 0 ? hit->normal : Vec3(-hit->normal);
+      vertex.p = ray(hit->t) + eps * vertex.normal;
+      vertex.albedo = hit->albedo;
+    } else {
+      result.L += beta * escapedRadiance(ray, prev_pdf, camera_ray);
+      break;
+    }
+
+    if (depth >= max_depth) break;
+    ++result.scattering_events;
+    result.L += beta * sampleDirect(vertex, rng, lookup);
+    const ScatterSample s = vertex.sample(rng);
+    if (!(s.pdf > 0) || (s.weight <= 0).all()) break;
+    beta *= s.weight;
+    prev_pdf = s.pdf;
+    ray = {vertex.p, s.wo};
+    if (depth + 1 >= settings_.roulette_depth) {  // Russian roulette, unbiased
+      const double q = std::min(1.0, beta.maxCoeff());
+      if (rng.uniform() >= q) break;
+      beta /= q;
+    }
+  }
+  return result;
+}
+
+}  // namespace vdbappear

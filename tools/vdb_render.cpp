@@ -1,0 +1,202 @@
+// vdb_render: an unbiased volumetric path tracer for media (docs/rendering.md).
+#include "tool_main.h"
+
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/render/render_output.h"
+#include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/version.h"
+
+#include <fmt/format.h>
+
+#include <optional>
+
+using namespace vdbappear;
+
+namespace {
+
+constexpr const char* kTool = "vdb_render";
+
+constexpr const char* kExamples = R"(Examples:
+  vdb_render twill.vdb -o twill.exr --view +z --spp 256 --env 0.2 --sun 1,1,-2,3 --ground
+  vdb_render cloud.vdb -o cloud.exr --preview cloud.png --time 60 --env-map sky.exr
+  vdb_render twill_4x.vdb -o train.exr --view -x --res 128x128 --sh-light 1,-1 --aov variance,cluster
+  vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
+  vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
+Without a light flag or scene lights, the medium is lit by a white sky (--env 1).
+Without a camera, it is framed from +z (--view +z). Units: docs/rendering.md.)";
+
+// Flags as given on the command line; each one that was given overrides the scene file.
+struct Flags {
+  std::string medium, output, preview, scene, report, res, view, interp, strategy, env_map;
+  std::vector<double> camera_pos, camera_target, camera_up, env, sun, point_light, ground_albedo;
+  std::vector<int> sh_light;
+  std::vector<std::string> aovs, meshes;
+  double fov = 30, time = 0, ground_height = 0;
+  int spp = 16, max_depth = -1;
+  std::uint64_t seed = 0;
+  bool ground = false, verbose = false;
+};
+
+Vec3 vec3Of(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+std::pair<int, int> parseResolution(const std::string& text) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  const int n = std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra);
+  if (n == 1) h = w;
+  else if (n != 3 || (x != 'x' && x != 'X')) throw std::runtime_error("--res '" + text + "': expected WxH or N");
+  if (w < 1 || h < 1 || w > 16384 || h > 16384) throw std::runtime_error("--res '" + text + "': sizes must lie in 1..16384");
+  return {w, h};
+}
+
+nlohmann::json rgbJson(const std::vector<double>& v) { return v.size() == 1 ? nlohmann::json(v[0]) : nlohmann::json(v); }
+
+// Lights given by flags replace the scene file's lights.
+nlohmann::json lightsOf(const CLI::App& app, const Flags& f) {
+  nlohmann::json lights = nlohmann::json::array();
+  if (app.count("--env")) lights.push_back({{"type", "env"}, {"radiance", rgbJson(f.env)}});
+  if (app.count("--env-map")) lights.push_back({{"type", "env_map"}, {"file", f.env_map}});
+  if (app.count("--sh-light")) lights.push_back({{"type", "sh"}, {"l", f.sh_light[0]}, {"m", f.sh_light[1]}});
+  if (app.count("--sun"))
+    lights.push_back({{"type", "sun"}, {"direction", {f.sun[0], f.sun[1], f.sun[2]}}, {"strength", f.sun[3]}});
+  if (app.count("--point-light"))
+    lights.push_back({{"type", "point"}, {"position", {f.point_light[0], f.point_light[1], f.point_light[2]}},
+                      {"intensity", f.point_light[3]}});
+  return lights;
+}
+
+SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
+  SceneDescription scene = f.scene.empty() ? SceneDescription() : readSceneFile(f.scene);
+  if (!f.medium.empty()) scene.medium = f.medium;
+  if (app.count("--res")) std::tie(scene.render.width, scene.render.height) = parseResolution(f.res);
+  if (app.count("--spp")) scene.render.spp = f.spp;
+  if (app.count("--time")) scene.render.time_seconds = f.time;
+  if (app.count("--time") && !app.count("--spp")) scene.render.spp = 1 << 30;
+  if (app.count("--seed")) scene.render.seed = f.seed;
+  if (app.count("--max-depth")) scene.render.path.max_depth = f.max_depth;
+  if (app.count("--interp")) scene.interpolation = parseInterpolation(f.interp);
+  if (app.count("--strategy")) scene.render.path.strategy = parseLightStrategy(f.strategy);
+  if (app.count("--camera-pos")) {
+    scene.camera.position = vec3Of(f.camera_pos);
+    scene.camera_given = true;
+    scene.view.reset();
+  }
+  if (app.count("--camera-target")) scene.camera.target = vec3Of(f.camera_target);
+  if (app.count("--camera-up")) scene.camera.up = vec3Of(f.camera_up);
+  if (app.count("--fov")) scene.camera.fov_degrees = f.fov;
+  if (app.count("--view")) scene.view = f.view;
+  const nlohmann::json flag_lights = lightsOf(app, f);
+  if (!flag_lights.empty()) scene.lights = flag_lights;
+  if (scene.lights.empty()) scene.lights.push_back({{"type", "env"}, {"radiance", 1.0}});
+  if (f.ground || app.count("--ground-height") || app.count("--ground-albedo")) {
+    GroundDescription ground = scene.ground.value_or(GroundDescription());
+    if (app.count("--ground-height")) ground.height = f.ground_height;
+    if (app.count("--ground-albedo")) ground.albedo = f.ground_albedo.size() == 1 ? Rgb::Constant(f.ground_albedo[0])
+                                                                                  : Rgb(f.ground_albedo[0], f.ground_albedo[1], f.ground_albedo[2]);
+    scene.ground = ground;
+  }
+  for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
+  for (const std::string& aov : f.aovs) {
+    if (aov == "variance") continue;
+    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected variance or cluster");
+    scene.render.cluster_coverage = true;
+  }
+  if (scene.medium.empty() && scene.meshes.empty()) throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene)");
+  if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
+  return scene;
+}
+
+void addFlags(CLI::App& app, Flags& f) {
+  app.add_option("MEDIUM", f.medium, "medium (.vdb); - reads a VDB stream from stdin");
+  app.add_option("-o,--output", f.output, "output image: .exr (linear float, with AOVs) or .png (sRGB)")->required();
+  app.add_option("--preview", f.preview, "also write an sRGB PNG preview");
+  app.add_option("--scene", f.scene, "JSON scene file (docs/rendering.md); flags override it");
+  app.add_option("--res", f.res, "image size WxH, or N for NxN (default 256x256)");
+  app.add_option("--spp", f.spp, "samples per pixel (default 16; with --time: the most to take)");
+  app.add_option("--time", f.time, "render for this many seconds (passes of samples)")->check(CLI::PositiveNumber);
+  app.add_option("--seed", f.seed, "random seed: same seed, same image, whatever the thread count");
+  app.add_option("--max-depth", f.max_depth, "most scattering events per path (-1: unlimited, default)")
+      ->check(CLI::Range(-1, 1 << 20));
+  app.add_option("--camera-pos", f.camera_pos, "camera position X,Y,Z")->delimiter(',')->expected(3);
+  app.add_option("--camera-target", f.camera_target, "point the camera looks at X,Y,Z")->delimiter(',')->expected(3);
+  app.add_option("--camera-up", f.camera_up, "camera up vector X,Y,Z (default 0,0,1)")->delimiter(',')->expected(3);
+  app.add_option("--fov", f.fov, "vertical field of view in degrees (default 30)")->check(CLI::Range(0.01, 179.0));
+  app.add_option("--view", f.view, "frame the medium from a side: +x -x +y -y +z -z");
+  app.add_option("--env", f.env, "constant environment radiance R[,G,B]")->delimiter(',')->expected(1, 3);
+  app.add_option("--env-map", f.env_map, "lat-long environment map (EXR, Blender's convention, z up)");
+  app.add_option("--sh-light", f.sh_light, "environment radiance Y_lm(w): L,M (signed: see docs)")->delimiter(',')->expected(2);
+  app.add_option("--sun", f.sun, "directional light DX,DY,DZ,STRENGTH (direction of travel; irradiance)")
+      ->delimiter(',')->expected(4);
+  app.add_option("--point-light", f.point_light, "point light X,Y,Z,INTENSITY")->delimiter(',')->expected(4);
+  app.add_flag("--ground", f.ground, "a diffuse ground plane z = bottom of the medium");
+  app.add_option("--ground-height", f.ground_height, "z of the ground plane (implies --ground)");
+  app.add_option("--ground-albedo", f.ground_albedo, "ground albedo A or R,G,B (default 0.5)")->delimiter(',')->expected(1, 3);
+  app.add_option("--mesh", f.meshes, "diffuse mesh (OBJ, PLY; albedo 0.5); repeatable");
+  app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
+  app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
+  app.add_option("--aov", f.aovs, "extra EXR channels: variance, cluster")->delimiter(',');
+  app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
+  app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
+}
+
+nlohmann::json reportOf(const SceneDescription& scene, const RenderResult& r, const MediumView* medium) {
+  double sum = 0, variance = 0;
+  for (std::size_t i = 0; i < r.mean.size(); ++i) {
+    sum += r.mean[i];
+    variance += r.variance[i];
+  }
+  const double n = double(r.mean.size());
+  nlohmann::json report = {{"tool", kTool}, {"version", kVersion}, {"medium", scene.medium},
+                           {"resolution", {r.width, r.height}}, {"spp", r.spp}, {"seed", scene.render.seed},
+                           {"seconds", r.seconds}, {"paths", r.paths},
+                           {"paths_per_second", r.seconds > 0 ? r.paths / r.seconds : 0.0},
+                           {"mean_scattering_events", r.paths ? double(r.scattering_events) / r.paths : 0.0},
+                           {"mean_pixel_value", n > 0 ? sum / n : 0.0},
+                           {"mean_pixel_variance", n > 0 ? variance / n : 0.0},
+                           {"tentative_collisions", r.tracking.tentative_collisions},
+                           {"majorant_violations", r.tracking.majorant_violations}};
+  if (medium) {
+    report["phase_function"] = phaseSourceName(medium->phaseSource());
+    report["interp"] = interpolationName(medium->interpolation());
+    report["majorant_voxels"] = medium->majorantVoxelCount();
+  }
+  return report;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Renders a medium (and optional surfaces) with an unbiased volumetric path tracer: delta "
+               "tracking over a hierarchical majorant, next-event estimation with MIS.",
+               kTool);
+  app.footer(kExamples);
+  app.set_version_flag("--version", kVersion);
+  Flags flags;
+  addFlags(app, flags);
+  tool::ThreadLimit threads(app);
+
+  return tool::run(app, argc, argv, [&] {
+    threads.apply();
+    SceneDescription scene = sceneOf(app, flags);
+    tool::checkDistinct(scene.medium, flags.output, flags.report);
+    checkWritable(flags.output);
+    if (!flags.preview.empty()) checkWritable(flags.preview);
+    std::shared_ptr<const MediumView> medium;
+    if (!scene.medium.empty()) medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation);
+    const RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
+    const PinholeCamera camera(cameraOf(scene, medium.get()), scene.render.width, scene.render.height);
+    ProgressBar progress("render", 0);
+    const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
+    const bool variance = std::find(flags.aovs.begin(), flags.aovs.end(), "variance") != flags.aovs.end();
+    writeRenderOutputs(result, {flags.output, flags.preview, variance, scene.render.cluster_coverage});
+    const nlohmann::json report = reportOf(scene, result, medium.get());
+    if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
+    if (flags.verbose)
+      fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",
+                 kTool, result.width, result.height, result.spp, result.seconds, report["paths_per_second"].get<double>(),
+                 report["mean_scattering_events"].get<double>(), report["mean_pixel_value"].get<double>());
+    return 0;
+  });
+}
