@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <optional>
 
 using namespace vdbappear;
@@ -51,12 +52,20 @@ std::pair<int, int> parseResolution(const std::string& text) {
   return {w, h};
 }
 
-nlohmann::json rgbJson(const std::vector<double>& v) { return v.size() == 1 ? nlohmann::json(v[0]) : nlohmann::json(v); }
+// A colour flag: one value (grey) or three.
+nlohmann::json rgbJson(const std::vector<double>& v, const char* flag) {
+  if (v.size() != 1 && v.size() != 3) throw std::runtime_error(fmt::format("{}: give one value or three (R,G,B)", flag));
+  return v.size() == 1 ? nlohmann::json(v[0]) : nlohmann::json(v);
+}
+Rgb rgbOf(const std::vector<double>& v, const char* flag) {
+  const nlohmann::json j = rgbJson(v, flag);
+  return j.is_number() ? Rgb::Constant(j.get<double>()) : Rgb(v[0], v[1], v[2]);
+}
 
 // Lights given by flags replace the scene file's lights.
 nlohmann::json lightsOf(const CLI::App& app, const Flags& f) {
   nlohmann::json lights = nlohmann::json::array();
-  if (app.count("--env")) lights.push_back({{"type", "env"}, {"radiance", rgbJson(f.env)}});
+  if (app.count("--env")) lights.push_back({{"type", "env"}, {"radiance", rgbJson(f.env, "--env")}});
   if (app.count("--env-map")) lights.push_back({{"type", "env_map"}, {"file", f.env_map}});
   if (app.count("--sh-light")) lights.push_back({{"type", "sh"}, {"l", f.sh_light[0]}, {"m", f.sh_light[1]}});
   if (app.count("--sun"))
@@ -83,6 +92,8 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     scene.camera_given = true;
     scene.view.reset();
   }
+  if (app.count("--camera-target") && !scene.camera_given)
+    throw std::runtime_error("--camera-target needs --camera-pos (or use --view)");
   if (app.count("--camera-target")) scene.camera.target = vec3Of(f.camera_target);
   if (app.count("--camera-up")) scene.camera.up = vec3Of(f.camera_up);
   if (app.count("--fov")) scene.camera.fov_degrees = f.fov;
@@ -93,16 +104,19 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (f.ground || app.count("--ground-height") || app.count("--ground-albedo")) {
     GroundDescription ground = scene.ground.value_or(GroundDescription());
     if (app.count("--ground-height")) ground.height = f.ground_height;
-    if (app.count("--ground-albedo")) ground.albedo = f.ground_albedo.size() == 1 ? Rgb::Constant(f.ground_albedo[0])
-                                                                                  : Rgb(f.ground_albedo[0], f.ground_albedo[1], f.ground_albedo[2]);
+    if (app.count("--ground-albedo")) ground.albedo = rgbOf(f.ground_albedo, "--ground-albedo");
     scene.ground = ground;
   }
+  if (!f.meshes.empty()) scene.meshes.clear();  // flags override the file
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
   for (const std::string& aov : f.aovs) {
     if (aov == "variance") continue;
     if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected variance or cluster");
     scene.render.cluster_coverage = true;
   }
+  const std::string extension = std::filesystem::path(f.output).extension().string();
+  if (!f.aovs.empty() && extension != ".exr" && extension != ".EXR")
+    throw std::runtime_error(f.output + ": --aov needs an .exr output");
   if (scene.medium.empty() && scene.meshes.empty()) throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene)");
   if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
   return scene;
@@ -181,6 +195,7 @@ int main(int argc, char** argv) {
     threads.apply();
     SceneDescription scene = sceneOf(app, flags);
     tool::checkDistinct(scene.medium, flags.output, flags.report);
+    tool::checkDistinct(scene.medium, flags.preview, flags.output);
     checkWritable(flags.output);
     if (!flags.preview.empty()) checkWritable(flags.preview);
     std::shared_ptr<const MediumView> medium;

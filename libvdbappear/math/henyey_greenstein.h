@@ -19,10 +19,12 @@ inline double henyeyGreenstein(double mu, double g) {
 
 inline double henyeyGreensteinPhase(const Vec3& wi, const Vec3& wo, double g) { return henyeyGreenstein(-wi.dot(wo), g); }
 
-// Inverts the CDF of mu; phi uniform. pdf = phase, weight 1.
+// Inverts the CDF of mu; phi uniform. pdf = phase, weight 1. For |g| < 1e-5 the inversion
+// cancels badly: mu is then uniform, with pdf 1/(4 pi) and weight phase / pdf.
 inline PhaseSample sampleHenyeyGreenstein(const Vec3& wi, double g, const Point2& u) {
   double mu;
-  if (std::abs(g) < 1e-3) {
+  const bool uniform = std::abs(g) < 1e-5;
+  if (uniform) {
     mu = 1 - 2 * u.x();
   } else {
     const double s = (1 - g * g) / (1 + g - 2 * g * u.x());
@@ -33,6 +35,7 @@ inline PhaseSample sampleHenyeyGreenstein(const Vec3& wi, double g, const Point2
   const double phi = 2 * kPi * u.y();
   const Frame frame = Frame::fromNormal(-wi);  // around the direction of propagation
   const Vec3 wo = frame.toWorld(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), mu));
+  if (uniform) return {wo, 1 / (4 * kPi), 4 * kPi * henyeyGreenstein(mu, g)};
   return {wo, henyeyGreenstein(mu, g), 1.0};
 }
 

@@ -47,9 +47,10 @@ LeafBound boundOfBlock(const Medium& medium, const openvdb::Coord& origin) {
   const auto offdiag = medium.sggx_offdiag ? LeafValues<openvdb::Vec3STree>(medium.sggx_offdiag->tree(), origin)
                                            : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(0.0f));
   LeafBound bound;
+  const auto* leaf = rho.leaf();  // null for a tile: all voxels active
   for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
     const double r = rho[i];
-    if (!(r > 0)) continue;
+    if (!(r > 0) || (leaf && !leaf->isValueOn(i))) continue;  // inactive voxels are empty space
     const double lambda = medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
     bound.max_rho_sqrt_lambda = std::max(bound.max_rho_sqrt_lambda, float(r * std::sqrt(lambda) * (1 + 1e-6)));
     bound.max_rho = std::max(bound.max_rho, float(r * (1 + 1e-6)));

@@ -249,7 +249,15 @@ struct MediumLookup::Accessors {
     return d[0] * w.x() * w.x() + d[1] * w.y() * w.y() + d[2] * w.z() * w.z() +
            2 * (o[0] * w.x() * w.y() + o[1] * w.x() * w.z() + o[2] * w.y() * w.z());
   }
+  double rho(const openvdb::Coord& ijk) {  // inactive voxels are empty space (docs/medium.md §3)
+    float value = 0;
+    return density.probeValue(ijk, value) ? value : 0.0;
+  }
   Rgb albedoAt(const openvdb::Coord& ijk) { return albedo ? toRgb(albedo->getValue(ijk)) : Rgb::Ones(); }
+  int tableId(const openvdb::Coord& ijk, int background) {  // checked in readTables
+    int id = background;
+    return phase_id->probeValue(ijk, id) ? id : background;
+  }
   double hgAt(const openvdb::Coord& ijk) { return hg_g ? hg_g->getValue(ijk) : 0.0; }
 };
 
@@ -275,6 +283,24 @@ openvdb::Coord nearestVoxel(const Vec3& p) {
 
 }  // namespace
 
+// The voxel whose discrete data (lobes, phase table id, cluster) a point uses: the nearest one,
+// or under trilinear lookups the stencil corner with the largest weight * density, so that a
+// collision near an edge, where the nearest voxel may be empty, finds the voxel that made it.
+openvdb::Coord discreteVoxel(MediumLookup::Accessors& a, Interpolation interpolation, const Vec3& p) {
+  if (interpolation == Interpolation::kNearest) return nearestVoxel(p);
+  const TrilinearStencil stencil(p);
+  int best = 0;
+  double best_weight = -1;
+  for (int c = 0; c < 8; ++c) {
+    const double w = stencil.weight[c] * a.rho(stencil.ijk[c]);
+    if (w > best_weight) {
+      best_weight = w;
+      best = c;
+    }
+  }
+  return stencil.ijk[best];
+}
+
 MediumLookup::MediumLookup(const MediumView::Impl& view)
     : view_(view), accessors_(std::make_unique<Accessors>(view)) {}
 MediumLookup::~MediumLookup() = default;
@@ -285,7 +311,7 @@ namespace {
 double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, const Vec3& p, const Vec3& w) {
   if (interpolation == Interpolation::kNearest) {
     const openvdb::Coord ijk = nearestVoxel(p);
-    const double rho = a.density.getValue(ijk);
+    const double rho = a.rho(ijk);
     return rho > 0 ? rho * std::sqrt(std::max(0.0, a.wSw(ijk, w))) : 0.0;
   }
   // Trilinear: rho = sum w_c rho_c, S = sum w_c rho_c S_c / rho (density-weighted), so
@@ -293,7 +319,7 @@ double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, con
   const TrilinearStencil stencil(p);
   double rho = 0, rho_wSw = 0;
   for (int c = 0; c < 8; ++c) {
-    const double r = a.density.getValue(stencil.ijk[c]);
+    const double r = a.rho(stencil.ijk[c]);
     if (!(r > 0)) continue;
     rho += stencil.weight[c] * r;
     rho_wSw += stencil.weight[c] * r * std::max(0.0, a.wSw(stencil.ijk[c], w));
@@ -310,13 +336,15 @@ double MediumLookup::extinction(const Vec3& p, const Vec3& w) {
 ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Accessors& a = *accessors_;
   const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
-  const openvdb::Coord ijk = nearestVoxel(p);
+  const openvdb::Coord ijk = discreteVoxel(a, view_.interpolation, p);
   ScatteringFunction f;
   PhaseLobe lobe;
-  if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: nearest voxel always
+  if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
     lobe.kind = PhaseKind::kSggx;
     for (LobeAccessors& l : a.lobes) {
-      const Rgb weight = toRgb(l.weight.getValue(ijk));
+      openvdb::Vec3s w(0.0f);
+      if (!l.weight.probeValue(ijk, w)) continue;  // inactive: no such lobe here
+      const Rgb weight = toRgb(w);
       if (!(weight > 0).any()) continue;
       const openvdb::Vec3s off = l.offdiag ? l.offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
       lobe.sggx = Sggx(sggxMatrix(toVec3(l.diag.getValue(ijk)), toVec3(off)));
@@ -336,7 +364,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
     const TrilinearStencil stencil(p);
     double total = 0;
     for (int c = 0; c < 8; ++c) {
-      const double w = stencil.weight[c] * std::max(0.0f, a.density.getValue(stencil.ijk[c]));
+      const double w = stencil.weight[c] * std::max(0.0, a.rho(stencil.ijk[c]));
       if (!(w > 0)) continue;
       total += w;
       albedo += w * a.albedoAt(stencil.ijk[c]);
@@ -355,7 +383,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       break;
     case PhaseSource::kTable:
       lobe.kind = PhaseKind::kTabulated;
-      lobe.table = &view_.tables[a.phase_id ? a.phase_id->getValue(ijk) : 0];
+      lobe.table = &view_.tables[a.phase_id ? a.tableId(ijk, view_.phase_id->background()) : 0];
       break;
     case PhaseSource::kHgGrid:
     case PhaseSource::kHgConstant:
@@ -370,7 +398,8 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
 
 int MediumLookup::cluster(const Vec3& world) {
   if (!accessors_->cluster) return -1;
-  const openvdb::Coord ijk = nearestVoxel(view_.world_to_index * world + view_.index_of_origin);
+  const openvdb::Coord ijk =
+      discreteVoxel(*accessors_, view_.interpolation, view_.world_to_index * world + view_.index_of_origin);
   int id = 0;
   return accessors_->cluster->probeValue(ijk, id) ? id : -1;
 }

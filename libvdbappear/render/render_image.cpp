@@ -108,7 +108,8 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
       shown_ms = elapsed_ms;
       if (elapsed >= settings.time_seconds) break;
       const double per_sample = elapsed / done;
-      pass = std::max(1, int((settings.time_seconds - elapsed) / 4 / per_sample));
+      const double affordable = (settings.time_seconds - elapsed) / 4 / per_sample;
+      pass = int(std::clamp(affordable, 1.0, double(settings.spp - done)));
     }
   } else {
     if (progress) progress->setTotal(pixels * settings.spp);

@@ -101,14 +101,23 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
       fail(source, "resolution", "expected [width, height]");
     scene->render.width = r[0];
     scene->render.height = r[1];
+    if (scene->render.width < 1 || scene->render.height < 1 || scene->render.width > 16384 || scene->render.height > 16384)
+      fail(source, "resolution", "sizes must lie in 1..16384");
   }
-  if (json.contains("spp")) scene->render.spp = numberOf<int>(json["spp"], source, "spp");
+  if (json.contains("spp")) {
+    scene->render.spp = numberOf<int>(json["spp"], source, "spp");
+    if (scene->render.spp < 1) fail(source, "spp", "must be >= 1");
+  }
   if (json.contains("time")) {
     scene->render.time_seconds = numberOf<double>(json["time"], source, "time");
+    if (!(scene->render.time_seconds > 0)) fail(source, "time", "must be > 0 seconds");
     if (!json.contains("spp")) scene->render.spp = 1 << 30;  // the time decides
   }
   if (json.contains("seed")) scene->render.seed = numberOf<std::uint64_t>(json["seed"], source, "seed");
-  if (json.contains("max_depth")) scene->render.path.max_depth = numberOf<int>(json["max_depth"], source, "max_depth");
+  if (json.contains("max_depth")) {
+    scene->render.path.max_depth = numberOf<int>(json["max_depth"], source, "max_depth");
+    if (scene->render.path.max_depth < -1) fail(source, "max_depth", "must be >= 0, or -1 for unlimited");
+  }
   if (json.contains("interp")) scene->interpolation = parseInterpolation(json["interp"].get<std::string>());
   if (json.contains("strategy")) scene->render.path.strategy = parseLightStrategy(json["strategy"].get<std::string>());
   if (json.contains("camera")) applyCamera(json["camera"], source, scene);
@@ -126,6 +135,7 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     scene->ground = ground;
   }
   if (json.contains("meshes")) {
+    if (!json["meshes"].is_array()) fail(source, "meshes", "expected an array");
     for (std::size_t i = 0; i < json["meshes"].size(); ++i) {
       const auto& m = json["meshes"][i];
       const std::string where = fmt::format("meshes[{}]", i);
@@ -235,6 +245,8 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
 CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium) {
   const double aspect = double(scene.render.width) / scene.render.height;
   if (scene.view || !scene.camera_given) {
+    if (!scene.view && !scene.camera.target.isZero())
+      throw std::runtime_error("a camera target without a camera position: give both (or --view)");
     if (!medium) throw std::runtime_error("--view needs a medium to frame; give --camera-pos and --camera-target");
     return framedView(medium->worldBounds(), scene.view.value_or("+z"), scene.camera.fov_degrees, aspect);
   }

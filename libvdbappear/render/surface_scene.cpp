@@ -108,6 +108,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   RTCRayHit hit{};
   hit.ray = makeRay(o, d, t_min, t_max);
   hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->scene, &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const GeometryInfo& info = impl_->geometries[hit.hit.geomID];

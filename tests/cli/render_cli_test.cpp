@@ -1,0 +1,163 @@
+// vdb_render from the command line: outputs and AOVs, determinism over threads, scene files and
+// flag overrides, and one clear error (no output file) for each kind of bad input.
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+
+#include "cli/run_command.h"
+#include "support/medium_testing.h"
+#include "support/temp_dir.h"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::runCommand;
+using test::TempDir;
+
+const std::string kRender = quote(VDB_RENDER);
+const std::string kCube = quote(std::string(GOLDEN_DIR) + "/cube8.vdb");
+
+bool exists(const std::string& path) { return std::filesystem::exists(path); }
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::string> channels;
+  std::vector<float> values;
+};
+
+Image readImage(const std::string& path) {
+  auto input = OIIO::ImageInput::open(path);
+  if (!input) return {};
+  const OIIO::ImageSpec& spec = input->spec();
+  Image image{spec.width, spec.height, spec.channelnames, {}};
+  image.values.resize(std::size_t(spec.width) * spec.height * spec.nchannels);
+  input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.values.data());
+  return image;
+}
+
+TEST(RenderCli, HelpHasExamples) {
+  const auto help = runCommand(kRender + " --help");
+  ASSERT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("Examples:"), std::string::npos);
+  EXPECT_NE(help.out.find("--sh-light"), std::string::npos);
+}
+
+TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
+  TempDir dir;
+  const std::string out = dir.path("cube.exr"), png = dir.path("cube.png"), report = dir.path("r.json");
+  const auto r = runCommand(kRender + " " + kCube + " -o " + quote(out) + " --preview " + quote(png) +
+                            " --res 12x8 --spp 4 --view -x --sun 1,0,-1,2 --env 0.1 --ground --aov variance --report " +
+                            quote(report));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Image image = readImage(out);
+  EXPECT_EQ(image.width, 12);
+  EXPECT_EQ(image.height, 8);
+  EXPECT_EQ(image.channels, (std::vector<std::string>{"R", "G", "B", "variance.R", "variance.G", "variance.B"}));
+  EXPECT_TRUE(exists(png));
+  std::ifstream in(report);
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["spp"], 4);
+  EXPECT_EQ(json["majorant_violations"], 0);
+  EXPECT_GT(json["paths_per_second"].get<double>(), 0);
+}
+
+TEST(RenderCli, SameImageWithOneThreadOrAll) {
+  TempDir dir;
+  const std::string a = dir.path("a.exr"), b = dir.path("b.exr");
+  const std::string args = " --res 16 --spp 3 --seed 7 --view +y --sun 0,1,-1,3";
+  ASSERT_EQ(runCommand(kRender + " " + kCube + args + " -j 1 -o " + quote(a)).status, 0);
+  ASSERT_EQ(runCommand(kRender + " " + kCube + args + " -o " + quote(b)).status, 0);
+  EXPECT_EQ(readImage(a).values, readImage(b).values);
+}
+
+TEST(RenderCli, ClusterAovMarksWhereEachClusterIsVisible) {
+  TempDir dir;
+  const std::string medium = dir.path("clusters.vdb"), out = dir.path("c.exr");
+  MediumPtr cube = readMedium(std::string(GOLDEN_DIR) + "/cube8.vdb");
+  auto cluster = test::namedGridLike<openvdb::Int32Grid>(*cube, "cluster", 0);
+  for (auto it = cube->density->cbeginValueOn(); it; ++it) cluster->tree().setValue(it.getCoord(), it.getCoord().x() < 4 ? 0 : 1);
+  cube->other_grids.push_back(cluster);
+  writeMedium(*cube, medium, "test");
+  ASSERT_EQ(runCommand(kRender + " " + quote(medium) + " -o " + quote(out) + " --res 16 --spp 16 --view +z --aov cluster").status, 0);
+  const Image image = readImage(out);
+  ASSERT_EQ(image.channels.size(), 5u);
+  EXPECT_EQ(image.channels[3], "cluster.0");
+  const auto at = [&](int x, int y, int c) { return image.values[(std::size_t(y) * image.width + x) * 5 + c]; };
+  // Seen from +z with +y up, world x grows to the left... so check both halves hold one cluster each.
+  const float left0 = at(5, 8, 3), left1 = at(5, 8, 4), right0 = at(10, 8, 3), right1 = at(10, 8, 4);
+  EXPECT_TRUE((left0 > 0.5f && right1 > 0.5f && left1 < 0.5f && right0 < 0.5f) ||
+              (left1 > 0.5f && right0 > 0.5f && left0 < 0.5f && right1 < 0.5f))
+      << left0 << " " << left1 << " " << right0 << " " << right1;
+}
+
+TEST(RenderCli, FlagsOverrideTheSceneFile) {
+  TempDir dir;
+  const std::string scene = dir.path("scene.json"), out = dir.path("s.exr"), report = dir.path("r.json");
+  std::ofstream(scene) << R"({"medium": ")" << std::string(GOLDEN_DIR) + "/cube8.vdb"
+                       << R"(", "resolution": [10, 6], "spp": 2, "camera": {"view": "-z", "fov": 40},
+                             "lights": [{"type": "quad", "corner": [-1, -1, 2], "edge1": [2, 0, 0], "edge2": [0, 2, 0],
+                                         "radiance": 4}], "ground": {"albedo": 0.3}})";
+  ASSERT_EQ(runCommand(kRender + " --scene " + quote(scene) + " -o " + quote(out) + " --report " + quote(report)).status, 0);
+  EXPECT_EQ(readImage(out).width, 10);
+  ASSERT_EQ(runCommand(kRender + " --scene " + quote(scene) + " -o " + quote(out) + " --res 4x4 --spp 3 --report " +
+                       quote(report)).status, 0);
+  EXPECT_EQ(readImage(out).width, 4);
+  std::ifstream in(report);
+  EXPECT_EQ(nlohmann::json::parse(in)["spp"], 3);
+}
+
+struct BadInput {
+  std::string name, args, message;
+};
+
+TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
+  TempDir dir;
+  const std::string out = dir.path("out.exr");
+  const std::string truncated = dir.path("truncated.vdb"), scene = dir.path("bad.json"), typo = dir.path("typo.json");
+  {
+    std::ifstream in(std::string(GOLDEN_DIR) + "/cube8.vdb", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    std::ofstream(scene) << R"({"lights": [{"type": "laser"}]})";
+    std::ofstream(typo) << R"({"sppp": 4})";
+  }
+  const std::vector<BadInput> cases{
+      {"missing medium", quote(dir.path("none.vdb")), "none.vdb: no such file"},
+      {"truncated medium", quote(truncated), "truncated.vdb"},
+      {"no medium", "", "nothing to render"},
+      {"bad resolution", kCube + " --res 0x4", "--res"},
+      {"bad view", kCube + " --view +w", "--view '+w'"},
+      {"bad interp", kCube + " --interp cubic", "interpolation 'cubic'"},
+      {"bad strategy", kCube + " --strategy guess", "light strategy 'guess'"},
+      {"two-value colour", kCube + " --env 1,2", "--env: give one value or three"},
+      {"unknown light type", kCube + " --scene " + quote(scene), "unknown light type 'laser'"},
+      {"unknown scene key", kCube + " --scene " + quote(typo), "sppp: unknown key"},
+      {"missing scene", kCube + " --scene " + quote(dir.path("none.json")), "cannot open the scene file"},
+      {"target without position", kCube + " --camera-target 0,0,0", "--camera-target needs --camera-pos"},
+      {"camera at its target", kCube + " --camera-pos 1,1,1 --camera-target 1,1,1", "position and target coincide"},
+      {"missing mesh", kCube + " --mesh " + quote(dir.path("none.obj")), "none.obj: no such mesh file"},
+      {"missing env map", kCube + " --env-map " + quote(dir.path("none.exr")), "none.exr: no such image file"},
+      {"zero spp", kCube + " --spp 0", "--spp must be >= 1"},
+      {"unknown flag", kCube + " --bogus", "bogus"},
+  };
+  for (const BadInput& c : cases) {
+    const auto r = runCommand(kRender + " " + c.args + " -o " + quote(out));
+    EXPECT_NE(r.status, 0) << c.name;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_FALSE(exists(out)) << c.name;
+  }
+  const auto aov = runCommand(kRender + " " + kCube + " --aov variance -o " + quote(dir.path("x.png")));
+  EXPECT_NE(aov.status, 0);
+  EXPECT_NE(aov.err.find("--aov needs an .exr output"), std::string::npos) << aov.err;
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path("")) || !exists(dir.path("x.png")));
+}
+
+}  // namespace
+}  // namespace vdbappear

@@ -1,0 +1,315 @@
+// The path tracer against analytic answers: white furnace (every phase function, both lookups),
+// Beer-Lambert (isotropic and anisotropic extinction), a sunlit diffuse plane; the majorant against
+// the true optical depth; the three light strategies against each other; determinism over threads.
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/sggx.h"
+#include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/render/render_image.h"
+#include "libvdbappear/render/scene_description.h"
+
+#include "support/medium_testing.h"
+#include "support/test_random.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+namespace vdbappear {
+namespace {
+
+using nlohmann::json;
+
+// A cube of res^3 voxels and edge `size`: voxel i covers [i - 1/2, i + 1/2] h, h = size / res.
+MediumPtr cube(int res, double size, float rho, float albedo) {
+  auto medium = std::make_shared<Medium>();
+  medium->source = "test cube";
+  medium->density = openvdb::FloatGrid::create(0.0f);
+  medium->density->setName(grid_names::kDensity);
+  medium->density->setTransform(openvdb::math::Transform::createLinearTransform(size / res));
+  const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(res - 1));
+  medium->density->denseFill(box, rho, true);
+  medium->albedo = openvdb::Vec3SGrid::create(openvdb::Vec3s(1.0f));
+  medium->albedo->setName(grid_names::kAlbedo);
+  medium->albedo->setTransform(medium->density->transform().copy());
+  medium->albedo->denseFill(box, openvdb::Vec3s(albedo), true);
+  return medium;
+}
+
+openvdb::Vec3s vec3s(double x, double y, double z) { return openvdb::Vec3s(float(x), float(y), float(z)); }
+
+// Per-voxel random S (grid names `prefix`_diag / _offdiag) over the density's active voxels.
+void addRandomSggx(Medium& medium, const std::string& prefix, std::uint64_t seed) {
+  test::TestRandom random(seed);
+  auto diag = test::namedGridLike<openvdb::Vec3SGrid>(medium, prefix + "_diag", openvdb::Vec3s(1.0f));
+  auto offdiag = test::namedGridLike<openvdb::Vec3SGrid>(medium, prefix + "_offdiag", openvdb::Vec3s(0.0f));
+  for (auto it = medium.density->cbeginValueOn(); it; ++it) {
+    const Mat3 S = random.spd(0.02);
+    diag->tree().setValue(it.getCoord(), vec3s(S(0, 0), S(1, 1), S(2, 2)));
+    offdiag->tree().setValue(it.getCoord(), vec3s(S(0, 1), S(0, 2), S(1, 2)));
+  }
+  if (prefix == "sggx") {
+    medium.sggx_diag = diag;
+    medium.sggx_offdiag = offdiag;
+  } else {
+    medium.other_grids.push_back(diag);
+    medium.other_grids.push_back(offdiag);
+  }
+}
+
+// Two lobes whose RGB weights sum to `albedo` per channel, split at random per voxel.
+void addTwoLobes(Medium& medium, float albedo, std::uint64_t seed) {
+  addRandomSggx(medium, "lobe0", seed);
+  addRandomSggx(medium, "lobe1", seed + 1);
+  test::TestRandom random(seed + 2);
+  auto w0 = test::namedGridLike<openvdb::Vec3SGrid>(medium, "lobe0_weight", openvdb::Vec3s(0.0f));
+  auto w1 = test::namedGridLike<openvdb::Vec3SGrid>(medium, "lobe1_weight", openvdb::Vec3s(0.0f));
+  for (auto it = medium.density->cbeginValueOn(); it; ++it) {
+    const openvdb::Vec3s split = vec3s(random.uniform(), random.uniform(), random.uniform());
+    w0->tree().setValue(it.getCoord(), split * albedo);
+    w1->tree().setValue(it.getCoord(), (openvdb::Vec3s(1.0f) - split) * albedo);
+  }
+  medium.other_grids.push_back(w0);
+  medium.other_grids.push_back(w1);
+}
+
+struct Render {
+  RenderResult result;
+  double mean = 0, error = 0;  // image mean and its standard error
+};
+
+Render render(const MediumPtr& medium, const json& lights, const RenderSettings& settings, Interpolation interp,
+              const std::string& view = "+z", std::optional<GroundDescription> ground = std::nullopt) {
+  SceneDescription description;
+  description.lights = lights;
+  description.ground = ground;
+  description.render = settings;
+  description.interpolation = interp;
+  description.view = view;
+  const auto view_of = medium ? std::make_shared<MediumView>(medium, interp) : nullptr;
+  const RenderScene scene = buildRenderScene(description, view_of, [](const std::string&) -> RgbImage {
+    throw std::runtime_error("no images in tests");
+  });
+  const PinholeCamera camera(cameraOf(description, view_of.get()), settings.width, settings.height);
+  Render r;
+  r.result = renderImage(scene, camera, settings);
+  const double n = double(r.result.mean.size());
+  double variance = 0;
+  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
+    r.mean += r.result.mean[i] / n;
+    variance += r.result.variance[i] / (n * n);
+  }
+  r.error = std::sqrt(variance);
+  return r;
+}
+
+RenderSettings small(int size, int spp, std::uint64_t seed = 1) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.seed = seed;
+  return s;
+}
+
+// Every pixel within 5 standard errors of `expected`, the image mean within 4.
+void expectImage(const Render& r, double expected, const std::string& what) {
+  int outliers = 0;
+  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
+    const double sigma = std::sqrt(r.result.variance[i]);
+    if (std::abs(r.result.mean[i] - expected) > 5 * sigma + 1e-6) ++outliers;
+  }
+  EXPECT_EQ(outliers, 0) << what;
+  EXPECT_NEAR(r.mean, expected, 4 * r.error + 1e-9) << what;
+  EXPECT_EQ(r.result.tracking.majorant_violations, 0u) << what;
+}
+
+struct FurnaceCase {
+  std::string name;
+  std::function<MediumPtr()> medium;
+  Interpolation interp = Interpolation::kNearest;
+};
+
+std::vector<FurnaceCase> furnaceCases() {
+  const auto iso = [] { return cube(12, 1.0, 6.0f, 1.0f); };
+  const auto hg = [] {
+    auto m = cube(12, 1.0, 6.0f, 1.0f);
+    m->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(0.7f));
+    return m;
+  };
+  const auto sggx = [] {
+    auto m = cube(12, 1.0, 6.0f, 1.0f);
+    addRandomSggx(*m, "sggx", 5);
+    return m;
+  };
+  const auto lobes = [] {
+    auto m = cube(12, 1.0, 6.0f, 1.0f);
+    addRandomSggx(*m, "sggx", 6);
+    addTwoLobes(*m, 1.0f, 7);
+    return m;
+  };
+  const auto varying = [] {  // random density, albedo 1, random S, sparse blocks
+    RandomMediumParams p;
+    p.extent = 24;
+    p.seed = 3;
+    p.albedo = false;
+    return makeRandomMedium(p);
+  };
+  return {{"isotropic", iso},  {"hg", hg},         {"random_sggx", sggx},
+          {"multi_lobe", lobes}, {"random_medium", varying},
+          {"isotropic_trilinear", iso, Interpolation::kTrilinear},
+          {"random_medium_trilinear", varying, Interpolation::kTrilinear}};
+}
+
+class WhiteFurnace : public testing::TestWithParam<std::size_t> {};
+
+TEST_P(WhiteFurnace, RendersOneEverywhere) {
+  const FurnaceCase c = furnaceCases()[GetParam()];
+  const Render r = render(c.medium(), json::array({{{"type", "env"}, {"radiance", 1.0}}}), small(12, 256, GetParam()),
+                          c.interp, "-y");
+  expectImage(r, 1.0, c.name);
+  EXPECT_GT(double(r.result.scattering_events) / r.result.paths, 0.5) << "the medium must scatter";
+}
+
+INSTANTIATE_TEST_SUITE_P(Media, WhiteFurnace, testing::Range<std::size_t>(0, furnaceCases().size()),
+                         [](const testing::TestParamInfo<std::size_t>& info) { return furnaceCases()[info.param].name; });
+
+// A furnace must be able to fail: albedo 0.95 is visibly darker.
+TEST(WhiteFurnace, DetectsLostEnergy) {
+  const Render r = render(cube(12, 1.0, 6.0f, 0.95f), json::array({{{"type", "env"}, {"radiance", 1.0}}}),
+                          small(12, 96), Interpolation::kNearest, "-y");
+  EXPECT_LT(r.mean + 10 * r.error, 1.0);
+}
+
+// An absorbing cube seen along z through its middle: radiance = exp(-sigma_t L) of the sky.
+TEST(BeerLambert, AbsorbingCubeTransmitsExpMinusTau) {
+  for (const bool anisotropic : {false, true}) {
+    auto medium = cube(8, 1.0, 2.0f, 0.0f);
+    double sigma = 1;  // sqrt(w^T S w) along z
+    if (anisotropic) {  // fibres along z, roughness 0.5: sigma(z) = 0.5
+      const Mat3 S = Sggx::fiberMatrix(Vec3(0, 0, 1), 0.5);
+      medium->sggx_diag = test::namedGridLike<openvdb::Vec3SGrid>(*medium, "sggx_diag", vec3s(S(0, 0), S(1, 1), S(2, 2)));
+      medium->sggx_diag->denseFill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(7)), vec3s(S(0, 0), S(1, 1), S(2, 2)), true);
+      sigma = 0.5;
+    }
+    SceneDescription d;
+    RenderSettings settings = small(4, 20000);
+    // A narrow camera far above the cube's centre: rays within 0.02 degrees of -z.
+    const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
+    const Vec3 centre = view->worldBounds().centre();
+    d.lights = json::array({{{"type", "env"}, {"radiance", 1.0}}});
+    const RenderScene scene = buildRenderScene(d, view, {});
+    const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, 4, 4);
+    const RenderResult r = renderImage(scene, camera, settings);
+    const double expected = std::exp(-2.0 * sigma * 1.0);
+    for (std::size_t i = 0; i < r.mean.size(); ++i)
+      EXPECT_NEAR(r.mean[i], expected, 5 * std::sqrt(r.variance[i])) << (anisotropic ? "anisotropic" : "isotropic");
+  }
+}
+
+TEST(BeerLambert, RatioTrackingEstimatesTransmittance) {
+  auto medium = cube(16, 2.0, 3.0f, 0.5f);
+  addRandomSggx(*medium, "sggx", 1);  // random S per voxel: integrate sigma(w) along the ray
+  const MediumView view(medium, Interpolation::kNearest);
+  auto lookup = view.lookup();
+  test::TestRandom random(4);
+  for (int k = 0; k < 5; ++k) {
+    const Vec3 o = view.worldBounds().centre() + 0.3 * random.direction(), d = random.direction();
+    const double length = 0.6;
+    double tau = 0;  // fine midpoint quadrature of sigma_t along the segment
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) tau += lookup->extinction(o + (i + 0.5) / n * length * d, d) * length / n;
+    RandomStream rng(9, {k});
+    double sum = 0, sum2 = 0;
+    const int samples = 40000;
+    for (int i = 0; i < samples; ++i) {
+      const double T = lookup->transmittance(o, d, length, rng);
+      sum += T;
+      sum2 += T * T;
+    }
+    const double mean = sum / samples, error = std::sqrt((sum2 / samples - mean * mean) / samples);
+    EXPECT_NEAR(mean, std::exp(-tau), 5 * error + 2e-3 * std::exp(-tau)) << "ray " << k;
+  }
+  EXPECT_EQ(lookup->stats().majorant_violations, 0u);
+}
+
+// The majorant optical depth bounds the true one along any ray (traversal skips nothing it should
+// not), for both lookups, on a sparse random medium.
+TEST(Majorant, BoundsTheOpticalDepthAlongRandomRays) {
+  for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+    const MediumView view(test::randomMedium(40, 8), interp);
+    auto lookup = view.lookup();
+    const Aabb box = view.worldBounds();
+    test::TestRandom random(12);
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 o = box.lo + Vec3(random.uniform(), random.uniform(), random.uniform()).cwiseProduct(box.extent());
+      const Vec3 d = k % 10 == 0 ? Vec3(1, 0, 0) : random.direction();  // axis-aligned rays too
+      const double length = box.extent().norm();
+      double tau = 0;
+      const int n = 4000;
+      for (int i = 0; i < n; ++i) {
+        const double sigma = lookup->extinction(o + (i + 0.5) / n * length * d, d);
+        tau += sigma * length / n;
+      }
+      EXPECT_GE(lookup->majorantOpticalDepth(o, d, length) * (1 + 1e-6), tau * (1 - 1e-3))
+          << interpolationName(interp) << " ray " << k;
+    }
+  }
+}
+
+// A diffuse plane of albedo a lit at normal incidence by a sun of irradiance E: radiance a E / pi.
+TEST(Surfaces, SunlitGroundIsAlbedoTimesIrradianceOverPi) {
+  SceneDescription d;
+  d.lights = json::array({{{"type", "sun"}, {"direction", {0, 0, -1}}, {"strength", 3.0}}});
+  d.ground = GroundDescription{0.0, Rgb(0.5, 0.25, 1.0)};
+  const RenderScene scene = buildRenderScene(d, nullptr, {});
+  const PinholeCamera camera({Vec3(0.3, 0.2, 5), Vec3(0.3, 0.2, 0), Vec3(0, 1, 0), 20}, 4, 4);
+  const RenderResult r = renderImage(scene, camera, small(4, 4));
+  for (std::size_t i = 0; i < r.mean.size(); i += 3) {
+    EXPECT_NEAR(r.mean[i], 0.5 * 3 / kPi, 1e-6);
+    EXPECT_NEAR(r.mean[i + 1], 0.25 * 3 / kPi, 1e-6);
+    EXPECT_NEAR(r.mean[i + 2], 1.0 * 3 / kPi, 1e-6);
+  }
+}
+
+// Light sampling alone, phase sampling alone and MIS estimate the same image.
+TEST(LightStrategies, AgreeWithinMonteCarloError) {
+  auto medium = cube(10, 1.0, 4.0f, 0.8f);
+  medium->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(0.4f));
+  const json lights = json::array({{{"type", "sh"}, {"l", 1}, {"m", 0}, {"scale", 2.0}},
+                                   {{"type", "quad"}, {"corner", {-1.0, -1.0, 2.0}}, {"edge1", {0.0, 3.0, 0.0}},
+                                    {"edge2", {3.0, 0.0, 0.0}}, {"radiance", 1.5}},
+                                   {{"type", "sun"}, {"direction", {1.0, 0.5, -1.0}}, {"strength", 2.0}},
+                                   {{"type", "env"}, {"radiance", 0.3}}});
+  std::vector<Render> renders;
+  for (const LightStrategy s : {LightStrategy::kMis, LightStrategy::kLightOnly, LightStrategy::kPhaseOnly}) {
+    RenderSettings settings = small(8, 512, 3);
+    settings.path.strategy = s;
+    renders.push_back(render(medium, lights, settings, Interpolation::kNearest, "-y", GroundDescription{}));
+  }
+  for (std::size_t k = 1; k < renders.size(); ++k) {
+    const Render &a = renders[0], &b = renders[k];
+    EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.error, b.error)) << "strategy " << k;
+    int outliers = 0;
+    for (std::size_t i = 0; i < a.result.mean.size(); ++i)
+      if (std::abs(a.result.mean[i] - b.result.mean[i]) > 5 * std::sqrt(a.result.variance[i] + b.result.variance[i]) + 1e-6)
+        ++outliers;
+    EXPECT_EQ(outliers, 0) << "strategy " << k;
+  }
+  EXPECT_LT(renders[0].error, renders[2].error) << "MIS should beat phase sampling alone here";
+}
+
+TEST(Determinism, SameImageForAnyThreadCount) {
+  const MediumPtr medium = test::randomMedium(24, 2);
+  const json lights = json::array({{{"type", "env"}, {"radiance", 0.5}}, {{"type", "sun"}, {"direction", {0, 1, -1}}, {"strength", 2}}});
+  std::vector<std::vector<float>> images;
+  for (int threads : {1, 2, 3}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    images.push_back(render(medium, lights, small(16, 8, 42), Interpolation::kNearest, "+x").result.mean);
+  }
+  EXPECT_EQ(images[0], images[1]);
+  EXPECT_EQ(images[0], images[2]);
+  const auto other_seed = render(medium, lights, small(16, 8, 43), Interpolation::kNearest, "+x").result.mean;
+  EXPECT_NE(images[0], other_seed);
+}
+
+}  // namespace
+}  // namespace vdbappear
