@@ -35,7 +35,7 @@ inline bool isPositiveDefinite(const Vec3& diag, const Vec3& offdiag) {
 
 class Sggx {
  public:
-  Sggx() : Sggx(Mat3::Identity()) {}  // isotropic flakes
+  Sggx() : S_(Mat3::Identity()), S_inverse_(Mat3::Identity()), sqrt_det_S_(1) {}  // isotropic flakes
   // S must be symmetric positive definite (check with isPositiveDefinite).
   explicit Sggx(const Mat3& S);
 

@@ -8,6 +8,7 @@
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <stdexcept>
 #include <vector>
 
@@ -39,24 +40,31 @@ struct LeafBound {
   float max_lambda = 0;
 };
 
-// One 8^3 block of density (a leaf, or part of a tile).
-LeafBound boundOfBlock(const Medium& medium, const openvdb::Coord& origin) {
+constexpr int kBlocksPerLeafAxis = 8 / kMajorantBlock;
+constexpr int kBlocksPerLeaf = kBlocksPerLeafAxis * kBlocksPerLeafAxis * kBlocksPerLeafAxis;
+using LeafBounds = std::array<LeafBound, kBlocksPerLeaf>;
+
+// The bounds of the majorant blocks of one 8^3 leaf of density (a leaf, or part of a tile).
+LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin) {
   const LeafValues<openvdb::FloatTree> rho(medium.density->tree(), origin);
   const auto diag = medium.sggx_diag ? LeafValues<openvdb::Vec3STree>(medium.sggx_diag->tree(), origin)
                                      : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(1.0f));
   const auto offdiag = medium.sggx_offdiag ? LeafValues<openvdb::Vec3STree>(medium.sggx_offdiag->tree(), origin)
                                            : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(0.0f));
-  LeafBound bound;
+  LeafBounds bounds;
   const auto* leaf = rho.leaf();  // null for a tile: all voxels active
   for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
     const double r = rho[i];
     if (!(r > 0) || (leaf && !leaf->isValueOn(i))) continue;  // inactive voxels are empty space
     const double lambda = medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
+    // Leaf offsets are x-major: i = 64 x + 8 y + z.
+    const int x = int(i >> 6) / kMajorantBlock, y = int((i >> 3) & 7) / kMajorantBlock, z = int(i & 7) / kMajorantBlock;
+    LeafBound& bound = bounds[(x * kBlocksPerLeafAxis + y) * kBlocksPerLeafAxis + z];
     bound.max_rho_sqrt_lambda = std::max(bound.max_rho_sqrt_lambda, float(r * std::sqrt(lambda) * (1 + 1e-6)));
     bound.max_rho = std::max(bound.max_rho, float(r * (1 + 1e-6)));
     bound.max_lambda = std::max(bound.max_lambda, float(lambda * (1 + 1e-6)));
   }
-  return bound;
+  return bounds;
 }
 
 // The origins of every 8^3 block that holds density: leaves, and the blocks of active tiles.
@@ -77,18 +85,29 @@ std::vector<openvdb::Coord> densityBlocks(const openvdb::FloatTree& tree) {
 
 openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation) {
   const std::vector<openvdb::Coord> origins = densityBlocks(medium.density->tree());
-  std::vector<LeafBound> bounds(origins.size());
+  std::vector<LeafBounds> leaf_bounds(origins.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) bounds[i] = boundOfBlock(medium, origins[i]);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) leaf_bounds[i] = boundsOfLeaf(medium, origins[i]);
   });
+  // Flatten to (block coordinate, bound).
+  std::vector<openvdb::Coord> blocks;
+  std::vector<LeafBound> bounds;
+  for (std::size_t i = 0; i < origins.size(); ++i)
+    for (int b = 0; b < kBlocksPerLeaf; ++b) {
+      if (!(leaf_bounds[i][b].max_rho > 0)) continue;
+      const int x = b / (kBlocksPerLeafAxis * kBlocksPerLeafAxis), y = (b / kBlocksPerLeafAxis) % kBlocksPerLeafAxis,
+                z = b % kBlocksPerLeafAxis;
+      blocks.emplace_back(origins[i].x() / kMajorantBlock + x, origins[i].y() / kMajorantBlock + y,
+                          origins[i].z() / kMajorantBlock + z);
+      bounds.push_back(leaf_bounds[i][b]);
+    }
 
   auto majorant = openvdb::FloatGrid::create(0.0f);
   majorant->setName("majorant");
   auto accessor = majorant->getAccessor();
-  const auto blockOf = [](const openvdb::Coord& o) { return openvdb::Coord(o.x() >> 3, o.y() >> 3, o.z() >> 3); };
   if (interpolation == Interpolation::kNearest) {
-    for (std::size_t i = 0; i < origins.size(); ++i) {
-      const openvdb::Coord a = blockOf(origins[i]);
+    for (std::size_t i = 0; i < blocks.size(); ++i) {
+      const openvdb::Coord& a = blocks[i];
       if (bounds[i].max_rho_sqrt_lambda > 0)
         accessor.setValue(a, std::max(bounds[i].max_rho_sqrt_lambda, accessor.getValue(a)));
     }
@@ -98,9 +117,8 @@ openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation in
   openvdb::FloatGrid rho_grid(0.0f), lambda_grid(0.0f);
   auto rho_max = rho_grid.getAccessor();
   auto lambda_max = lambda_grid.getAccessor();
-  for (std::size_t i = 0; i < origins.size(); ++i) {
-    if (!(bounds[i].max_rho > 0)) continue;
-    const openvdb::Coord a = blockOf(origins[i]);
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    const openvdb::Coord& a = blocks[i];
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {

@@ -406,11 +406,11 @@ int MediumLookup::cluster(const Vec3& world) {
 
 namespace {
 
-// The ray in majorant space (m = (index + 1/2) / 8), clipped to the majorant grid's box, with t
+// The ray in majorant space (m = (index + 1/2) / B), clipped to the majorant grid's box, with t
 // the world distance along the unit direction d.
 bool majorantRay(const MediumView::Impl& view, const Vec3& o, const Vec3& d, double t_max, MajorantRay* ray) {
-  const Vec3 o_m = (view.world_to_index * o + view.index_of_origin + Vec3::Constant(0.5)) / 8;
-  const Vec3 d_m = view.world_to_index * d / 8;
+  const Vec3 o_m = (view.world_to_index * o + view.index_of_origin + Vec3::Constant(0.5)) / kMajorantBlock;
+  const Vec3 d_m = view.world_to_index * d / kMajorantBlock;
   *ray = MajorantRay(openvdb::Vec3d(o_m.x(), o_m.y(), o_m.z()), openvdb::Vec3d(d_m.x(), d_m.y(), d_m.z()), 0.0, t_max);
   return !view.majorant_box.empty() && ray->clip(view.majorant_box) && ray->t1() > ray->t0();
 }
