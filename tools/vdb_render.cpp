@@ -110,8 +110,8 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (!f.meshes.empty()) scene.meshes.clear();  // flags override the file
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
   for (const std::string& aov : f.aovs) {
-    if (aov == "variance") continue;
-    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected variance or cluster");
+    if (aov == "variance" || aov == "alpha") continue;
+    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance or cluster");
     scene.render.cluster_coverage = true;
   }
   const std::string extension = std::filesystem::path(f.output).extension().string();
@@ -150,7 +150,7 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--mesh", f.meshes, "diffuse mesh (OBJ, PLY; albedo 0.5); repeatable");
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
   app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
-  app.add_option("--aov", f.aovs, "extra EXR channels: variance, cluster")->delimiter(',');
+  app.add_option("--aov", f.aovs, "extra EXR channels: alpha, variance, cluster (docs/rendering.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
 }
@@ -204,8 +204,8 @@ int main(int argc, char** argv) {
     const PinholeCamera camera(cameraOf(scene, medium.get()), scene.render.width, scene.render.height);
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
-    const bool variance = std::find(flags.aovs.begin(), flags.aovs.end(), "variance") != flags.aovs.end();
-    writeRenderOutputs(result, {flags.output, flags.preview, variance, scene.render.cluster_coverage});
+    const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
+    writeRenderOutputs(result, {flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage});
     const nlohmann::json report = reportOf(scene, result, medium.get());
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
     if (flags.verbose)

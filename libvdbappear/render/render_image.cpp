@@ -17,6 +17,7 @@ namespace {
 // Running sums of one pixel.
 struct PixelSums {
   Rgb sum = Rgb::Zero(), sum_squares = Rgb::Zero();
+  std::uint32_t collisions = 0;
 };
 
 struct ThreadState {
@@ -33,6 +34,7 @@ class Film {
   void add(int x, int y, const PathSample& s) {
     PixelSums& p = pixels_[std::size_t(y) * width_ + x];
     p.sum += s.L;
+    p.collisions += s.camera_ray_collided;
     p.sum_squares += s.L * s.L;
     if (clusters_ > 0 && s.first_cluster >= 0 && s.first_cluster < clusters_)
       ++coverage_[(std::size_t(y) * width_ + x) * clusters_ + s.first_cluster];
@@ -41,7 +43,9 @@ class Film {
   void resolve(int spp, RenderResult* result) const {
     result->mean.assign(pixels_.size() * 3, 0.0f);
     result->variance.assign(pixels_.size() * 3, 0.0f);
+    result->alpha.assign(pixels_.size(), 0.0f);
     for (std::size_t i = 0; i < pixels_.size(); ++i) {
+      result->alpha[i] = float(double(pixels_[i].collisions) / spp);
       const Rgb mean = pixels_[i].sum / spp;
       const Rgb sample_variance = spp > 1 ? Rgb((pixels_[i].sum_squares - spp * mean * mean) / (spp - 1)) : Rgb(Rgb::Zero());
       for (int c = 0; c < 3; ++c) {

@@ -27,6 +27,9 @@ struct RenderResult {
   std::vector<float> variance;  // RGB per pixel: variance of the pixel mean (sample variance / spp)
   int cluster_count = 0;
   std::vector<float> cluster_coverage;  // cluster_count values per pixel, when requested
+  // Per pixel, the share of camera rays with a real collision in the medium: an estimate of
+  // 1 - transmittance along the pixel, the medium's alpha (surfaces in front count as no collision).
+  std::vector<float> alpha;
   double seconds = 0;
   std::uint64_t paths = 0, scattering_events = 0;
   TrackingStats tracking;

@@ -20,20 +20,22 @@ std::string lowerExtension(const std::string& path) {
 
 }  // namespace
 
-ImageChannels renderChannels(const RenderResult& result, bool variance, bool clusters) {
+ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs) {
   ImageChannels image;
   image.width = result.width;
   image.height = result.height;
   image.names = {"R", "G", "B"};
-  if (variance) image.names.insert(image.names.end(), {"variance.R", "variance.G", "variance.B"});
-  const int K = clusters ? result.cluster_count : 0;
+  if (aovs.alpha) image.names.push_back("A");
+  if (aovs.variance) image.names.insert(image.names.end(), {"variance.R", "variance.G", "variance.B"});
+  const int K = aovs.clusters ? result.cluster_count : 0;
   for (int k = 0; k < K; ++k) image.names.push_back(fmt::format("cluster.{}", k));
   const std::size_t n = image.names.size(), pixels = std::size_t(result.width) * result.height;
   image.values.resize(pixels * n);
   for (std::size_t i = 0; i < pixels; ++i) {
     float* out = &image.values[i * n];
     for (int c = 0; c < 3; ++c) *out++ = result.mean[3 * i + c];
-    if (variance)
+    if (aovs.alpha) *out++ = result.alpha[i];
+    if (aovs.variance)
       for (int c = 0; c < 3; ++c) *out++ = result.variance[3 * i + c];
     for (int k = 0; k < K; ++k) *out++ = result.cluster_coverage[i * K + k];
   }
@@ -49,9 +51,9 @@ RgbImage renderRgb(const RenderResult& result) {
 void writeRenderOutputs(const RenderResult& result, const RenderOutputs& outputs) {
   const std::string extension = lowerExtension(outputs.image);
   if (extension == ".exr") {
-    writeExr(renderChannels(result, outputs.variance, outputs.clusters), outputs.image);
+    writeExr(renderChannels(result, outputs), outputs.image);
   } else {
-    if (outputs.variance || outputs.clusters)
+    if (outputs.alpha || outputs.variance || outputs.clusters)
       throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
     writeImage(renderRgb(result), outputs.image);
   }

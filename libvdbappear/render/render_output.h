@@ -2,7 +2,9 @@
 // Writing a render: a linear float EXR with R, G, B and the requested AOVs, or an sRGB PNG, and an
 // optional PNG preview. Part of libvdbappear_image (OpenImageIO).
 //
-// AOV channels: "variance.R/G/B", the variance of each pixel's mean (sample variance / spp), and
+// AOV channels: "A", the medium's alpha (the share of camera rays with a real collision in it: an
+// estimate of 1 - transmittance), "variance.R/G/B", the variance of each pixel's mean (sample
+// variance / spp), and
 // "cluster.K" for K = 0 .. clusters-1, the share of the pixel's camera rays whose first real
 // collision lies in a voxel of cluster K (> 0: cluster K is directly visible in the pixel, the
 // pixel sets of the restricted means of §6.3, downsampling paper).
@@ -17,11 +19,12 @@ namespace vdbappear {
 struct RenderOutputs {
   std::string image;    // .exr (float, with AOVs) or .png (sRGB)
   std::string preview;  // optional .png
+  bool alpha = false;
   bool variance = false;
   bool clusters = false;
 };
 
-ImageChannels renderChannels(const RenderResult& result, bool variance, bool clusters);
+ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs);
 RgbImage renderRgb(const RenderResult& result);
 void writeRenderOutputs(const RenderResult& result, const RenderOutputs& outputs);
 

@@ -103,7 +103,10 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     vertex.wi = -ray.d;
     if (t_medium) {
       vertex.p = ray(*t_medium);
-      if (camera_ray) result.first_cluster = lookup->cluster(vertex.p);
+      if (camera_ray) {
+        result.first_cluster = lookup->cluster(vertex.p);
+        result.camera_ray_collided = true;
+      }
       vertex.medium = lookup->scattering(vertex.p);
     } else if (hit && hit->light >= 0) {
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);

@@ -28,6 +28,7 @@ struct PathSettings {
 struct PathSample {
   Rgb L = Rgb::Zero();
   int first_cluster = -1;    // cluster id of the medium voxel where the camera ray first scatters
+  bool camera_ray_collided = false;  // the camera ray had a real collision in the medium
   int scattering_events = 0;
 };
 
