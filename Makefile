@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench clean
+.PHONY: all deps configure build test demo bench bench-render clean
 
 all: build
 
@@ -26,6 +26,10 @@ demo: build
 
 bench: build
 	@scripts/bench_downsample.py --build $(BUILD_DIR)
+
+# vdb_render against Blender Cycles (installs Debian's blender for itself when missing).
+bench-render: build
+	@scripts/bench_render.py --build $(BUILD_DIR)
 
 clean:
 	rm -rf $(BUILD_DIR) demo-out bench-out media

@@ -6,7 +6,7 @@ Run headless, never imported:
       --vdb FILE.vdb --out OUT.exr [--res 256 | --res WxH] --spp N \
       --camera-pos x,y,z --camera-target x,y,z [--camera-up 0,0,1] [--fov 30] \
       [--env R | --env R,G,B] [--sun DX,DY,DZ,STRENGTH] [--threads T] [--seed S] \
-      [--exclude-sync] [--openvdb-voxel-centres] [--force]
+      [--openvdb-voxel-centres] [--force]
 
 Writes OUT.exr (linear scene-referred RGB, 32-bit float, no view transform) and prints one JSON line
 on stdout, e.g. {"seconds": 12.3, "spp": 64, ...}. Blender prints its own lines around it
@@ -57,9 +57,10 @@ Unit conventions, matched to vdb_render (libvdbappear/render/*.h, docs/medium.md
   'None', exposure 0, gamma 1 (EXR output is linear anyway).
 
 Timing: "seconds" is the wall time of bpy.ops.render.render(), which includes Cycles' scene sync
-(reading the grids, NanoVDB conversion, bounding mesh, BVH). --exclude-sync first renders 1 spp with
-persistent data so that the timed render reuses the synced scene ("warmup_seconds" reports that
-first render); vdb_render's "seconds" likewise excludes reading the medium.
+(reading the grids, NanoVDB conversion, bounding mesh, BVH). To time path tracing alone, render at
+two sample counts and take the difference (scripts/bench_render.py does). (A warm-up render with
+persistent data does not work for this in 3.4: the second render returns at once with the first
+render's image.)
 """
 
 import argparse
@@ -146,8 +147,6 @@ def parse_args():
     p.add_argument("--sun", type=floats((4,)), help="DX,DY,DZ,STRENGTH (direction of travel; irradiance)")
     p.add_argument("--threads", type=int, default=0, help="render threads (0: all cores)")
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--exclude-sync", action="store_true",
-                   help="time only path tracing: warm up at 1 spp with persistent data first")
     p.add_argument("--openvdb-voxel-centres", action="store_true",
                    help="shift the object by half a voxel so voxel i's value sits at index i (OpenVDB)")
     p.add_argument("--force", action="store_true",
@@ -390,7 +389,7 @@ def configure_render(scene, a):
     r.use_border = False
     r.use_compositing = False
     r.use_sequencer = False
-    r.use_persistent_data = bool(a.exclude_sync)
+    r.use_persistent_data = False
     if a.threads > 0:
         r.threads_mode = "FIXED"
         r.threads = a.threads
@@ -496,14 +495,6 @@ def main():
     add_camera(scene, a)
     configure_render(scene, a)
 
-    warmup = None
-    if a.exclude_sync:
-        scene.cycles.samples = 1
-        t0 = time.perf_counter()
-        bpy.ops.render.render(write_still=False)
-        warmup = time.perf_counter() - t0
-        scene.cycles.samples = a.spp
-
     t0 = time.perf_counter()
     result = bpy.ops.render.render(write_still=False)
     seconds = time.perf_counter() - t0
@@ -525,8 +516,6 @@ def main():
         "hg_g": hg_g if hg_source == "metadata" else (None if hg_source == "grid" else 0.0),
         "albedo_grid": "albedo" in grids,
         "openvdb_voxel_centres": bool(a.openvdb_voxel_centres),
-        "sync_excluded": bool(a.exclude_sync),
-        "warmup_seconds": warmup,
         "blender": bpy.app.version_string,
         "out": out,
     }

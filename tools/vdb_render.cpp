@@ -155,7 +155,8 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
 }
 
-nlohmann::json reportOf(const SceneDescription& scene, const RenderResult& r, const MediumView* medium) {
+nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera, const RenderResult& r,
+                        const MediumView* medium) {
   double sum = 0, variance = 0;
   for (std::size_t i = 0; i < r.mean.size(); ++i) {
     sum += r.mean[i];
@@ -170,7 +171,11 @@ nlohmann::json reportOf(const SceneDescription& scene, const RenderResult& r, co
                            {"mean_pixel_value", n > 0 ? sum / n : 0.0},
                            {"mean_pixel_variance", n > 0 ? variance / n : 0.0},
                            {"tentative_collisions", r.tracking.tentative_collisions},
-                           {"majorant_violations", r.tracking.majorant_violations}};
+                           {"majorant_violations", r.tracking.majorant_violations},
+                           {"camera", {{"position", {camera.position.x(), camera.position.y(), camera.position.z()}},
+                                       {"target", {camera.target.x(), camera.target.y(), camera.target.z()}},
+                                       {"up", {camera.up.x(), camera.up.y(), camera.up.z()}},
+                                       {"fov", camera.fov_degrees}}}};
   if (medium) {
     report["phase_function"] = phaseSourceName(medium->phaseSource());
     report["interp"] = interpolationName(medium->interpolation());
@@ -201,12 +206,13 @@ int main(int argc, char** argv) {
     std::shared_ptr<const MediumView> medium;
     if (!scene.medium.empty()) medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation);
     const RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
-    const PinholeCamera camera(cameraOf(scene, medium.get()), scene.render.width, scene.render.height);
+    const CameraPose pose = cameraOf(scene, medium.get());
+    const PinholeCamera camera(pose, scene.render.width, scene.render.height);
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
     const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
     writeRenderOutputs(result, {flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage});
-    const nlohmann::json report = reportOf(scene, result, medium.get());
+    const nlohmann::json report = reportOf(scene, pose, result, medium.get());
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
     if (flags.verbose)
       fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",

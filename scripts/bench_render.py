@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""vdb_render speed: paths per second and time to a fixed relative noise, on the twill and the cloud
+at 256x256, side by side with Blender Cycles' CPU path tracer on the same VDB and scene.
+
+Noise is measured the same way for both renderers: two renders with different seeds, A and B;
+the per-pixel noise of one render is RMS(A - B) / sqrt(2), relative to the image mean. Noise falls
+as 1/sqrt(spp), so the time to reach a relative noise EPS is  t(spp) * (noise / EPS)^2.
+Cycles' time excludes its scene sync: it is rendered at two sample counts and the per-sample time
+is their difference (vdb_render's "seconds" likewise excludes reading the medium).
+
+Blender (Debian's blender 3.4) is installed with apt when missing and --no-blender is not given;
+it is never a build or test dependency. Results: bench-out/render_report.md and .json.
+Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
+       [--eps 0.02] [--res 256] [--no-blender] [--media twill,cloud]
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+SCENE = ["--env", "0.3", "--sun", "1,0.6,-1.2,3"]
+MEDIA = {
+    # name: (vdb_make_medium arguments, view, note)
+    "twill": (["twill", "--res", "256"], "+z",
+              "SGGX fibres in vdb_render; Cycles has no SGGX and renders the same density isotropically"),
+    "cloud": (["cloud", "--res", "256"], "-y", "HG g = 0.9, albedo 0.98: the same scene in both renderers"),
+}
+
+
+def run(cmd, **kw):
+    return subprocess.run(cmd, check=True, text=True, capture_output=True, **kw)
+
+
+def ensure_blender():
+    if shutil.which("blender"):
+        return True
+    print("bench: installing Debian's blender (benchmark only)", file=sys.stderr)
+    sudo = [] if os.geteuid() == 0 else ["sudo"]
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "blender"], check=True, env=env)
+    return shutil.which("blender") is not None
+
+
+def compare(bin_dir, a, b):
+    out = run([str(bin_dir / "vdb_image_compare"), str(a), str(b), "--report", "-"]).stdout
+    return json.loads(out)
+
+
+def noise_of(bin_dir, a, b):
+    c = compare(bin_dir, a, b)
+    mean = (c["mean_reference"] + c["mean_test"]) / 2
+    return c["rmse"] / math.sqrt(2) / mean, mean
+
+
+def bench_vdb_render(bin_dir, out, name, vdb, view, args):
+    reports = []
+    for seed in (1, 2):
+        exr = out / f"{name}_vdb_render_{seed}.exr"
+        run([str(bin_dir / "vdb_render"), str(vdb), "-o", str(exr), "--view", view, "--res", f"{args.res}",
+             "--spp", str(args.spp), "--seed", str(seed), "--interp", "trilinear", "--report", str(exr) + ".json"] + SCENE)
+        reports.append(json.loads(pathlib.Path(str(exr) + ".json").read_text()))
+    noise, mean = noise_of(bin_dir, out / f"{name}_vdb_render_1.exr", out / f"{name}_vdb_render_2.exr")
+    seconds = sum(r["seconds"] for r in reports) / 2
+    return {"renderer": "vdb_render", "spp": args.spp, "seconds": seconds, "paths_per_second":
+            sum(r["paths_per_second"] for r in reports) / 2, "relative_noise": noise, "mean": mean,
+            "time_to_eps": seconds * (noise / args.eps) ** 2, "camera": reports[0]["camera"],
+            "scattering_events": reports[0]["mean_scattering_events"]}
+
+
+def bench_cycles(bin_dir, out, name, vdb, camera, args):
+    script = pathlib.Path(__file__).with_name("blender_scene.py")
+
+    def render(spp, seed, exr):
+        cmd = ["blender", "-b", "-noaudio", "--factory-startup", "--python-exit-code", "1", "-P", str(script), "--",
+               "--vdb", str(vdb), "--out", str(exr), "--res", str(args.res), "--spp", str(spp), "--seed", str(seed),
+               "--camera-pos", ",".join(map(str, camera["position"])),
+               "--camera-target", ",".join(map(str, camera["target"])),
+               "--camera-up", ",".join(map(str, camera["up"])), "--fov", str(camera["fov"]),
+               "--threads", str(os.cpu_count()), "--openvdb-voxel-centres", "--force"] + SCENE
+        lines = run(cmd).stdout.splitlines()
+        return json.loads(next(line for line in lines if line.startswith("{")))
+
+    small = max(1, args.blender_spp // 8)
+    r1 = render(args.blender_spp, 1, out / f"{name}_cycles_1.exr")
+    r2 = render(args.blender_spp, 2, out / f"{name}_cycles_2.exr")
+    r0 = render(small, 3, out / f"{name}_cycles_small.exr")
+    wall = (r1["seconds"] + r2["seconds"]) / 2
+    per_sample = (wall - r0["seconds"]) / (args.blender_spp - small)
+    seconds = per_sample * args.blender_spp  # path tracing only, sync excluded
+    noise, mean = noise_of(bin_dir, out / f"{name}_cycles_1.exr", out / f"{name}_cycles_2.exr")
+    pixels = args.res * args.res
+    return {"renderer": "Cycles " + r1["blender"], "spp": args.blender_spp, "seconds": seconds, "wall_seconds": wall,
+            "paths_per_second": pixels * args.blender_spp / seconds, "relative_noise": noise, "mean": mean,
+            "time_to_eps": seconds * (noise / args.eps) ** 2}
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", default="build")
+    p.add_argument("--out", default="bench-out")
+    p.add_argument("--spp", type=int, default=32)
+    p.add_argument("--blender-spp", type=int, default=16)
+    p.add_argument("--eps", type=float, default=0.02, help="target relative noise per pixel")
+    p.add_argument("--res", type=int, default=256)
+    p.add_argument("--no-blender", action="store_true")
+    p.add_argument("--media", default="twill,cloud")
+    args = p.parse_args()
+    bin_dir = pathlib.Path(args.build) / "bin"
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    blender = not args.no_blender and ensure_blender()
+    results = {}
+    for name in args.media.split(","):
+        make_args, view, note = MEDIA[name]
+        vdb = out / f"{name}_256.vdb"
+        if not vdb.exists():
+            run([str(bin_dir / "vdb_make_medium")] + make_args + ["-o", str(vdb)])
+        print(f"bench: {name}: vdb_render", file=sys.stderr)
+        rows = [bench_vdb_render(bin_dir, out, name, vdb, view, args)]
+        if blender:
+            print(f"bench: {name}: Cycles", file=sys.stderr)
+            rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args))
+        results[name] = {"note": note, "rows": rows}
+
+    lines = [f"# vdb_render speed ({args.res}x{args.res}, relative noise target {args.eps:.0%}, "
+             f"{os.cpu_count()} cores)\n",
+             "| medium | renderer | spp | seconds | paths/s | relative noise | time to target | image mean |",
+             "|---|---|---:|---:|---:|---:|---:|---:|"]
+    for name, r in results.items():
+        for row in r["rows"]:
+            lines.append(f"| {name} | {row['renderer']} | {row['spp']} | {row['seconds']:.2f} | "
+                         f"{row['paths_per_second']:.3g} | {row['relative_noise']:.3f} | {row['time_to_eps']:.1f} s | "
+                         f"{row['mean']:.4f} |")
+    lines.append("")
+    for name, r in results.items():
+        rows = r["rows"]
+        lines.append(f"- {name}: {r['note']}.")
+        if len(rows) == 2:
+            ratio = rows[1]["time_to_eps"] / rows[0]["time_to_eps"]
+            diff = (rows[0]["mean"] - rows[1]["mean"]) / rows[1]["mean"]
+            lines.append(f"  Cycles needs {ratio:.2f}x vdb_render's time to the same noise; image means differ by "
+                         f"{diff:+.2%}.")
+    text = "\n".join(lines) + "\n"
+    (out / "render_report.md").write_text(text)
+    (out / "render_report.json").write_text(json.dumps(results, indent=2))
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
