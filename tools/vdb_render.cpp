@@ -37,7 +37,7 @@ struct Flags {
   double fov = 30, time = 0, ground_height = 0;
   int spp = 16, max_depth = -1;
   std::uint64_t seed = 0;
-  bool ground = false, verbose = false;
+  bool ground = false, verbose = false, no_sggx = false;
 };
 
 Vec3 vec3Of(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
@@ -148,6 +148,8 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--ground-height", f.ground_height, "z of the ground plane (implies --ground)");
   app.add_option("--ground-albedo", f.ground_albedo, "ground albedo A or R,G,B (default 0.5)")->delimiter(',')->expected(1, 3);
   app.add_option("--mesh", f.meshes, "diffuse mesh (OBJ, PLY; albedo 0.5); repeatable");
+  app.add_flag("--no-sggx", f.no_sggx, "ignore the SGGX grids (S = I: isotropic extinction and scattering), to compare "
+               "with renderers that lack SGGX");
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
   app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
   app.add_option("--aov", f.aovs, "extra EXR channels: alpha, variance, cluster (docs/rendering.md)")->delimiter(',');
@@ -204,7 +206,9 @@ int main(int argc, char** argv) {
     checkWritable(flags.output);
     if (!flags.preview.empty()) checkWritable(flags.preview);
     std::shared_ptr<const MediumView> medium;
-    if (!scene.medium.empty()) medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation);
+    if (!scene.medium.empty()) {
+      medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation, flags.no_sggx);
+    }
     const RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     const CameraPose pose = cameraOf(scene, medium.get());
     const PinholeCamera camera(pose, scene.render.width, scene.render.height);

@@ -175,7 +175,13 @@ void MediumView::Impl::readClusters() {
   }
 }
 
-MediumView::MediumView(MediumPtr medium, Interpolation interpolation) : impl_(std::make_unique<Impl>()) {
+MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignore_sggx)
+    : impl_(std::make_unique<Impl>()) {
+  if (ignore_sggx && medium->hasSggx()) {
+    medium = std::make_shared<Medium>(*medium);  // shares the grids
+    medium->sggx_diag = nullptr;
+    medium->sggx_offdiag = nullptr;
+  }
   impl_->medium = std::move(medium);
   impl_->interpolation = interpolation;
   impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation);
