@@ -2,7 +2,7 @@
 // Unbiased volumetric path tracing (pbrt-v4 §14.2 without spectral MIS, since extinction is grey):
 // free flights by delta tracking over the hierarchical majorant, real collisions scatter with the
 // voxel's scaled phase function (weight f_s / pdf, which carries the albedo), next-event estimation
-// with ratio-tracked shadow rays, and multiple importance sampling (power heuristic) between light
+// of every light with ratio-tracked shadow rays, and multiple importance sampling (power heuristic) between light
 // sampling and phase or BRDF sampling. Surfaces are diffuse; area lights are hit as surfaces.
 
 #include "libvdbappear/math/random_stream.h"
