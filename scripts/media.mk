@@ -1,12 +1,14 @@
 # Large procedural media, made on demand (included by the top-level Makefile).
 #   make media                  every medium below, into $(MEDIA_DIR)
 #   make media/twill512.vdb     one of them
-#   make previews               docs/previews/*.png, one per kind (vdb_preview)
+#   make previews               docs/previews/*.png, one per kind (rendered by vdb_render)
 # Files depend on the generator binary: a rebuilt vdb_make_medium remakes them.
 
 MEDIA_DIR ?= media
 MAKE_MEDIUM = $(BUILD_DIR)/bin/vdb_make_medium
-PREVIEW = $(BUILD_DIR)/bin/vdb_preview
+RENDER = $(BUILD_DIR)/bin/vdb_render
+PREVIEW_SPP ?= 32
+PREVIEW_LIGHTS = --env 0.3 --sun 1,0.6,-1.2,3
 
 LARGE_MEDIA = \
   $(MEDIA_DIR)/twill512.vdb \
@@ -37,7 +39,8 @@ $(MEDIA_DIR)/cloud256.vdb: $(MAKE_MEDIUM)
 $(MEDIA_DIR)/exemplars128.vdb: $(MAKE_MEDIUM)
 	@mkdir -p $(@D) && $(MAKE_MEDIUM) exemplars --res 128 --count 8 --layout 16x16 -v -o $@
 
-# One preview per kind, from a medium made in memory and piped (nothing left on disk).
+# One preview per kind, from a medium made in memory and piped (nothing left on disk), rendered by
+# vdb_render from the side that shows it best, under a sky and a low sun.
 PREVIEW_KINDS = twill satin velvet hairy-ball hairy-ball-two cube sphere slab cloud exemplars
 preview_args_twill = twill --res 192
 preview_args_satin = twill --pattern satin --yarns 5 --res 192 --warp-albedo 0.9,0.85,0.75 --weft-albedo 0.2,0.2,0.5
@@ -60,8 +63,10 @@ previews: build
 	    sphere) args="$(preview_args_sphere)";; slab) args="$(preview_args_slab)";; \
 	    cloud) args="$(preview_args_cloud)";; exemplars) args="$(preview_args_exemplars)";; \
 	  esac; \
-	  echo "previews: vdb_make_medium $$args | vdb_preview -> docs/previews/$$kind.png"; \
-	  $(MAKE_MEDIUM) $$args -o - | $(PREVIEW) - --width 360 -o docs/previews/$$kind.png || exit 1; \
+	  case $$kind in twill|satin|exemplars|slab) view=+z;; *) view=-y;; esac; \
+	  echo "previews: vdb_make_medium $$args | vdb_render --view $$view -> docs/previews/$$kind.png"; \
+	  $(MAKE_MEDIUM) $$args -o - | $(RENDER) - --view $$view --res 288 --spp $(PREVIEW_SPP) --seed 1 \
+	    $(PREVIEW_LIGHTS) -o docs/previews/$$kind.png || exit 1; \
 	done
 
 .PHONY: media previews

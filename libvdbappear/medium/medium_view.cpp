@@ -248,13 +248,7 @@ struct MediumLookup::Accessors {
     const openvdb::Vec3s off = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
     return sggxMatrix(toVec3(diag->getValue(ijk)), toVec3(off));
   }
-  double wSw(const openvdb::Coord& ijk, const Vec3& w) {  // w^T S w
-    if (!diag) return 1;
-    const openvdb::Vec3s d = diag->getValue(ijk);
-    const openvdb::Vec3s o = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
-    return d[0] * w.x() * w.x() + d[1] * w.y() * w.y() + d[2] * w.z() * w.z() +
-           2 * (o[0] * w.x() * w.y() + o[1] * w.x() * w.z() + o[2] * w.y() * w.z());
-  }
+  double wSw(const openvdb::Coord& ijk, const Vec3& w);  // w^T S w
   double rho(const openvdb::Coord& ijk) {  // inactive voxels are empty space (docs/medium.md §3)
     float value = 0;
     return density.probeValue(ijk, value) ? value : 0.0;
@@ -266,6 +260,17 @@ struct MediumLookup::Accessors {
   }
   double hgAt(const openvdb::Coord& ijk) { return hg_g ? hg_g->getValue(ijk) : 0.0; }
 };
+
+namespace {
+
+double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w);
+
+}  // namespace
+
+double MediumLookup::Accessors::wSw(const openvdb::Coord& ijk, const Vec3& w) {
+  if (!diag) return 1;
+  return wSwOf(diag->getValue(ijk), offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f), w);
+}
 
 namespace {
 
@@ -313,6 +318,35 @@ MediumLookup::~MediumLookup() = default;
 
 namespace {
 
+double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w) {
+  return d[0] * w.x() * w.x() + d[1] * w.y() * w.y() + d[2] * w.z() * w.z() +
+         2 * (o[0] * w.x() * w.y() + o[1] * w.x() * w.z() + o[2] * w.y() * w.z());
+}
+
+// The trilinear sums when the whole 2x2x2 stencil lies in one leaf of every grid it needs (7 times
+// in 8 along each axis): values come straight from the leaf buffers instead of 8 accessor probes
+// per grid. Leaf offsets are x-major (64 x + 8 y + z); corner c has dx = bit 0, dy = bit 1, dz = bit 2.
+bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stencil, const Vec3& w, double* rho,
+                      double* rho_wSw) {
+  const openvdb::Coord& base = stencil.ijk[0];
+  if ((base.x() & 7) == 7 || (base.y() & 7) == 7 || (base.z() & 7) == 7) return false;
+  const auto* density = a.density.probeConstLeaf(base);
+  if (!density) return false;
+  const openvdb::Vec3STree::LeafNodeType* diag = a.diag ? a.diag->probeConstLeaf(base) : nullptr;
+  const openvdb::Vec3STree::LeafNodeType* offdiag = a.offdiag ? a.offdiag->probeConstLeaf(base) : nullptr;
+  if ((a.diag && !diag) || (a.offdiag && !offdiag)) return false;
+  const openvdb::Index origin = openvdb::FloatTree::LeafNodeType::coordToOffset(base);
+  for (int c = 0; c < 8; ++c) {
+    const openvdb::Index i = origin + ((c & 1) << 6) + ((c & 2) << 2) + ((c & 4) >> 2);
+    const double r = density->getValue(i);
+    if (!(r > 0) || !density->isValueOn(i)) continue;
+    const double wSw = diag ? wSwOf(diag->getValue(i), offdiag ? offdiag->getValue(i) : openvdb::Vec3s(0.0f), w) : 1.0;
+    *rho += stencil.weight[c] * r;
+    *rho_wSw += stencil.weight[c] * r * std::max(0.0, wSw);
+  }
+  return true;
+}
+
 // sigma_t at an index-space point.
 double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, const Vec3& p, const Vec3& w) {
   if (interpolation == Interpolation::kNearest) {
@@ -324,6 +358,7 @@ double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, con
   // sigma_t = rho sqrt(w^T S w) = sqrt(rho * sum w_c rho_c w^T S_c w).
   const TrilinearStencil stencil(p);
   double rho = 0, rho_wSw = 0;
+  if (stencilInOneLeaf(a, stencil, w, &rho, &rho_wSw)) return std::sqrt(rho * rho_wSw);
   for (int c = 0; c < 8; ++c) {
     const double r = a.rho(stencil.ijk[c]);
     if (!(r > 0)) continue;
@@ -435,7 +470,7 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
   if (!majorantRay(view, o, d, t_max, &ray)) return;
   const Vec3 o_index = view.world_to_index * o + view.index_of_origin;
   const Vec3 d_index = view.world_to_index * d;
-  double tau = -std::log1p(-rng.uniform());  // optical depth to the next event
+  double tau = -std::log(1 - rng.uniform());  // optical depth to the next event
   forEachMajorantSegment(ray, accessors.majorant, [&](double t0, double t1, double sigma_maj) {
     for (double t = t0;;) {
       const double dt = tau / sigma_maj;
@@ -448,7 +483,7 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
       const double sigma_t = extinctionAt(accessors, view.interpolation, o_index + t * d_index, d);
       if (sigma_t > sigma_maj) ++stats.majorant_violations;
       if (!on_event(t, sigma_t, sigma_maj)) return false;
-      tau = -std::log1p(-rng.uniform());
+      tau = -std::log(1 - rng.uniform());
     }
   });
 }

@@ -255,6 +255,57 @@ TEST(Majorant, BoundsTheOpticalDepthAlongRandomRays) {
   }
 }
 
+// Lookups against a direct evaluation of their definitions (docs/rendering.md §3) on a sparse
+// random medium: nearest = the voxel whose cell holds the point; trilinear = sqrt(rho * sum w_c
+// rho_c w^T S_c w) with rho = sum w_c rho_c over active voxels. Covers the leaf-buffer fast path
+// (stencils inside a leaf) and the accessor path (stencils across leaves).
+TEST(Lookups, ExtinctionMatchesItsDefinition) {
+  const MediumPtr medium = test::randomMedium(40, 5);
+  auto rho = medium->density->getConstAccessor();
+  auto diag = medium->sggx_diag->getConstAccessor();
+  auto offdiag = medium->sggx_offdiag->getConstAccessor();
+  const auto wSw = [&](const openvdb::Coord& ijk, const Vec3& w) {
+    const openvdb::Vec3s d = diag.getValue(ijk), o = offdiag.getValue(ijk);
+    const Mat3 S = sggxMatrix(Vec3(d[0], d[1], d[2]), Vec3(o[0], o[1], o[2]));
+    return w.dot(S * w);
+  };
+  const auto density = [&](const openvdb::Coord& ijk) { return rho.isValueOn(ijk) ? double(rho.getValue(ijk)) : 0.0; };
+  for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+    const MediumView view(medium, interp);
+    auto lookup = view.lookup();
+    const Aabb box = view.worldBounds();
+    test::TestRandom random(31);
+    int compared = 0;
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3 p = box.lo + Vec3(random.uniform(), random.uniform(), random.uniform()).cwiseProduct(box.extent());
+      const Vec3 w = random.direction();
+      const openvdb::Vec3d index = medium->transform().worldToIndex(openvdb::Vec3d(p.x(), p.y(), p.z()));
+      double expected = 0;
+      if (interp == Interpolation::kNearest) {
+        const openvdb::Coord ijk = openvdb::Coord::round(index);
+        expected = density(ijk) > 0 ? density(ijk) * std::sqrt(wSw(ijk, w)) : 0.0;
+      } else {
+        const openvdb::Coord base = openvdb::Coord::floor(index);
+        double r = 0, rw = 0;
+        for (int c = 0; c < 8; ++c) {
+          const openvdb::Coord ijk = base.offsetBy(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+          const double weight = (c & 1 ? index[0] - base.x() : 1 - (index[0] - base.x())) *
+                                (c & 2 ? index[1] - base.y() : 1 - (index[1] - base.y())) *
+                                (c & 4 ? index[2] - base.z() : 1 - (index[2] - base.z()));
+          if (density(ijk) > 0) {
+            r += weight * density(ijk);
+            rw += weight * density(ijk) * wSw(ijk, w);
+          }
+        }
+        expected = std::sqrt(r * rw);
+      }
+      compared += expected > 0;
+      EXPECT_NEAR(lookup->extinction(p, w), expected, 1e-9 * (1 + expected)) << interpolationName(interp) << " point " << k;
+    }
+    EXPECT_GT(compared, 2000) << "too few points inside the medium";
+  }
+}
+
 // A diffuse plane of albedo a lit at normal incidence by a sun of irradiance E: radiance a E / pi.
 TEST(Surfaces, SunlitGroundIsAlbedoTimesIrradianceOverPi) {
   SceneDescription d;
