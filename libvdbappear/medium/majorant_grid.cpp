@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <array>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -35,9 +36,8 @@ double largestEigenvalue(const openvdb::Vec3s& diag, const openvdb::Vec3s& offdi
 }
 
 struct LeafBound {
-  float max_rho_sqrt_lambda = 0;  // nearest lookups
-  float max_rho = 0;              // trilinear lookups: max(rho) * sqrt(max lambda)
-  float max_lambda = 0;
+  float max_rho_sqrt_lambda = 0;  // the nearest-lookup bound
+  float max_rho = 0;              // > 0: the block holds density
 };
 
 constexpr int kBlocksPerLeafAxis = 8 / kMajorantBlock;
@@ -61,8 +61,7 @@ LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin) {
     const int x = int(i >> 6) / kMajorantBlock, y = int((i >> 3) & 7) / kMajorantBlock, z = int(i & 7) / kMajorantBlock;
     LeafBound& bound = bounds[(x * kBlocksPerLeafAxis + y) * kBlocksPerLeafAxis + z];
     bound.max_rho_sqrt_lambda = std::max(bound.max_rho_sqrt_lambda, float(r * std::sqrt(lambda) * (1 + 1e-6)));
-    bound.max_rho = std::max(bound.max_rho, float(r * (1 + 1e-6)));
-    bound.max_lambda = std::max(bound.max_lambda, float(lambda * (1 + 1e-6)));
+    bound.max_rho = std::max(bound.max_rho, float(r));
   }
   return bounds;
 }
@@ -113,22 +112,43 @@ openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation in
     }
     return majorant;
   }
-  // Trilinear: max(rho) and max(lambda) over each block and its 26 neighbours, then their product.
-  openvdb::FloatGrid rho_grid(0.0f), lambda_grid(0.0f);
-  auto rho_max = rho_grid.getAccessor();
-  auto lambda_max = lambda_grid.getAccessor();
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    const openvdb::Coord& a = blocks[i];
+  // Trilinear: a point of block a reads voxels B a - 1 .. B a + B (one beyond the block on each
+  // side), so the bound is max(rho) * sqrt(max lambda) over that (B+2)^3 region, for every block
+  // next to a block with density.
+  openvdb::MaskGrid candidates;
+  auto mask = candidates.getAccessor();
+  for (const openvdb::Coord& a : blocks)
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const openvdb::Coord n = a.offsetBy(dx, dy, dz);
-          rho_max.setValue(n, std::max(bounds[i].max_rho, rho_max.getValue(n)));
-          lambda_max.setValue(n, std::max(bounds[i].max_lambda, lambda_max.getValue(n)));
-        }
-  }
-  for (auto it = rho_grid.cbeginValueOn(); it; ++it)
-    accessor.setValue(it.getCoord(), *it * std::sqrt(lambda_max.getValue(it.getCoord())) * (1 + 1e-6f));
+        for (int dz = -1; dz <= 1; ++dz) mask.setValueOn(a.offsetBy(dx, dy, dz));
+  std::vector<openvdb::Coord> regions;
+  for (auto it = candidates.cbeginValueOn(); it; ++it) regions.push_back(it.getCoord());
+  std::vector<float> values(regions.size(), 0.0f);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, regions.size(), 64), [&](const auto& range) {
+    auto rho = medium.density->getConstAccessor();
+    std::optional<openvdb::Vec3SGrid::ConstAccessor> diag_values, off_values;
+    if (medium.sggx_diag) diag_values = medium.sggx_diag->getConstAccessor();
+    if (medium.sggx_offdiag) off_values = medium.sggx_offdiag->getConstAccessor();
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const openvdb::Coord& a = regions[i];
+      const openvdb::Coord lo(a.x() * kMajorantBlock - 1, a.y() * kMajorantBlock - 1, a.z() * kMajorantBlock - 1);
+      double max_rho = 0, max_lambda = 0;
+      for (int x = lo.x(); x <= lo.x() + kMajorantBlock + 1; ++x)
+        for (int y = lo.y(); y <= lo.y() + kMajorantBlock + 1; ++y)
+          for (int z = lo.z(); z <= lo.z() + kMajorantBlock + 1; ++z) {
+            const openvdb::Coord ijk(x, y, z);
+            float r = 0;
+            if (!rho.probeValue(ijk, r) || !(r > 0)) continue;
+            max_rho = std::max(max_rho, double(r));
+            const openvdb::Vec3s diag = diag_values ? diag_values->getValue(ijk) : openvdb::Vec3s(1.0f);
+            const openvdb::Vec3s off = off_values ? off_values->getValue(ijk) : openvdb::Vec3s(0.0f);
+            max_lambda = std::max(max_lambda, medium.hasSggx() ? largestEigenvalue(diag, off) : 1.0);
+          }
+      values[i] = float(max_rho * std::sqrt(max_lambda) * (1 + 1e-6));
+    }
+  });
+  for (std::size_t i = 0; i < regions.size(); ++i)
+    if (values[i] > 0) accessor.setValue(regions[i], values[i]);
   return majorant;
 }
 

@@ -14,7 +14,9 @@
 // Measured on 2 cores, 128x128 at 16 spp, time / majorant events: twill --res 128 (fibres a few
 // voxels wide) B = 8: 1.30 s / 22.4 M, B = 4: 1.25 s / 16.6 M, B = 2: 1.13 s / 10.4 M; cloud
 // --res 128 (smooth) B = 8: 0.94 s / 9.7 M, B = 4: 1.09 s / 7.4 M, B = 2: 1.12 s / 6.1 M. B = 4 is
-// the compromise.
+// the compromise. With the trilinear bound over the block grown by one voxel (rather than over the
+// 26 neighbouring blocks), B = 4 and B = 2 measured the same on both media (twill 2.46 / 2.53 s,
+// cloud 2.43 / 2.40 s, trilinear, 128x128 at 16 spp).
 
 #include "libvdbappear/medium/interpolation.h"
 
@@ -28,7 +30,7 @@ struct Medium;
 // kTrilinear: a trilinear lookup mixes a voxel with its neighbours, and the density-weighted S is
 // not bounded by the corner maxima of rho sqrt(lambda_max), so the value is
 // max(rho) * sqrt(max lambda_max over voxels with rho > 0), with both maxima taken over the block
-// and its 26 neighbours (a lookup reads voxels up to one away, which may lie in a neighbouring block).
+// grown by one voxel on every side (the voxels a lookup inside the block can read).
 inline constexpr int kMajorantBlock = 4;
 
 openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation);
