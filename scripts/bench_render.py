@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""vdb_render speed: paths per second and time to a fixed relative noise, on the twill and the cloud
-at 256x256, side by side with Blender Cycles' CPU path tracer on the same VDB and scene.
+"""vdb_render speed: paths per second and time to a fixed relative noise, on the twill (coloured, and
+all white) and the cloud at 256x256, side by side with Blender Cycles' CPU path tracer on the same
+VDB and scene.
 
 Noise is measured the same way for both renderers: two renders with different seeds, A and B;
 the per-pixel noise of one render is RMS(A - B) / sqrt(2), relative to the image mean. Noise falls
@@ -11,7 +12,7 @@ is their difference (vdb_render's "seconds" likewise excludes reading the medium
 Blender (Debian's blender 3.4) is installed with apt when missing and --no-blender is not given;
 it is never a build or test dependency. Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
-       [--eps 0.02] [--res 256] [--no-blender] [--media twill,cloud]
+       [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud]
 """
 import argparse
 import json
@@ -28,6 +29,10 @@ MEDIA = {
     "twill": (["twill", "--res", "256"], "+z", ["--no-sggx"],
               "Cycles has no SGGX: both render the twill's density with S = I (vdb_render --no-sggx), "
               "isotropic; the row 'vdb_render SGGX' is the real medium, for reference"),
+    "twill-white": (["twill", "--res", "256", "--warp-albedo", "1", "--weft-albedo", "1"], "+z", ["--no-sggx"],
+                    "the twill with albedo 1 everywhere, so that Cycles' plain albedo interpolation (which mixes "
+                    "the grid's background 1 into a fibre's edge) cannot make its medium brighter: the same "
+                    "medium in both renderers"),
     "cloud": (["cloud", "--res", "256"], "-y", [], "HG g = 0.9, albedo 0.98: the same scene in both renderers"),
 }
 
@@ -109,7 +114,7 @@ def main():
     p.add_argument("--eps", type=float, default=0.02, help="target relative noise per pixel")
     p.add_argument("--res", type=int, default=256)
     p.add_argument("--no-blender", action="store_true")
-    p.add_argument("--media", default="twill,cloud")
+    p.add_argument("--media", default="twill,twill-white,cloud")
     args = p.parse_args()
     bin_dir = pathlib.Path(args.build) / "bin"
     out = pathlib.Path(args.out)
@@ -126,7 +131,7 @@ def main():
         if blender:
             print(f"bench: {name}: Cycles", file=sys.stderr)
             rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args))
-        if flags:
+        if flags and name == "twill":
             rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, [], "vdb_render_SGGX", args))
         results[name] = {"note": note, "rows": rows}
 
