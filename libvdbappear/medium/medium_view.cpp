@@ -274,18 +274,22 @@ double MediumLookup::Accessors::wSw(const openvdb::Coord& ijk, const Vec3& w) {
 
 namespace {
 
-// The 8 voxel centres around an index-space point and their trilinear weights.
+// The 8 voxel centres around an index-space point and their trilinear weights; corner c is
+// base + (bit 0, bit 1, bit 2) of c.
 struct TrilinearStencil {
-  std::array<openvdb::Coord, 8> ijk;
+  openvdb::Coord base;
   std::array<double, 8> weight;
   explicit TrilinearStencil(const Vec3& p) {
-    const openvdb::Coord base = openvdb::Coord::floor(openvdb::Vec3d(p.x(), p.y(), p.z()));
-    const Vec3 f = p - Vec3(base.x(), base.y(), base.z());
-    for (int c = 0; c < 8; ++c) {
-      ijk[c] = base.offsetBy(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-      weight[c] = (c & 1 ? f.x() : 1 - f.x()) * (c & 2 ? f.y() : 1 - f.y()) * (c & 4 ? f.z() : 1 - f.z());
+    const double fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
+    base = openvdb::Coord(int(fx), int(fy), int(fz));
+    const double x1 = p.x() - fx, y1 = p.y() - fy, z1 = p.z() - fz, x0 = 1 - x1, y0 = 1 - y1, z0 = 1 - z1;
+    const double xy[4] = {x0 * y0, x1 * y0, x0 * y1, x1 * y1};
+    for (int c = 0; c < 4; ++c) {
+      weight[c] = xy[c] * z0;
+      weight[c + 4] = xy[c] * z1;
     }
   }
+  openvdb::Coord ijk(int c) const { return base.offsetBy(c & 1, (c >> 1) & 1, (c >> 2) & 1); }
 };
 
 openvdb::Coord nearestVoxel(const Vec3& p) {
@@ -303,13 +307,13 @@ openvdb::Coord discreteVoxel(MediumLookup::Accessors& a, Interpolation interpola
   int best = 0;
   double best_weight = -1;
   for (int c = 0; c < 8; ++c) {
-    const double w = stencil.weight[c] * a.rho(stencil.ijk[c]);
+    const double w = stencil.weight[c] * a.rho(stencil.ijk(c));
     if (w > best_weight) {
       best_weight = w;
       best = c;
     }
   }
-  return stencil.ijk[best];
+  return stencil.ijk(best);
 }
 
 MediumLookup::MediumLookup(const MediumView::Impl& view)
@@ -328,7 +332,7 @@ double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w) {
 // per grid. Leaf offsets are x-major (64 x + 8 y + z); corner c has dx = bit 0, dy = bit 1, dz = bit 2.
 bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stencil, const Vec3& w, double* rho,
                       double* rho_wSw) {
-  const openvdb::Coord& base = stencil.ijk[0];
+  const openvdb::Coord& base = stencil.base;
   if ((base.x() & 7) == 7 || (base.y() & 7) == 7 || (base.z() & 7) == 7) return false;
   const auto* density = a.density.probeConstLeaf(base);
   if (!density) return false;
@@ -360,10 +364,10 @@ double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, con
   double rho = 0, rho_wSw = 0;
   if (stencilInOneLeaf(a, stencil, w, &rho, &rho_wSw)) return std::sqrt(rho * rho_wSw);
   for (int c = 0; c < 8; ++c) {
-    const double r = a.rho(stencil.ijk[c]);
+    const double r = a.rho(stencil.ijk(c));
     if (!(r > 0)) continue;
     rho += stencil.weight[c] * r;
-    rho_wSw += stencil.weight[c] * r * std::max(0.0, a.wSw(stencil.ijk[c], w));
+    rho_wSw += stencil.weight[c] * r * std::max(0.0, a.wSw(stencil.ijk(c), w));
   }
   return std::sqrt(rho * rho_wSw);
 }
@@ -405,12 +409,12 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
     const TrilinearStencil stencil(p);
     double total = 0;
     for (int c = 0; c < 8; ++c) {
-      const double w = stencil.weight[c] * std::max(0.0, a.rho(stencil.ijk[c]));
+      const double w = stencil.weight[c] * std::max(0.0, a.rho(stencil.ijk(c)));
       if (!(w > 0)) continue;
       total += w;
-      albedo += w * a.albedoAt(stencil.ijk[c]);
-      if (view_.phase_source == PhaseSource::kSggx) S += w * a.S(stencil.ijk[c]);
-      if (view_.phase_source == PhaseSource::kHgGrid) g += w * a.hgAt(stencil.ijk[c]);
+      albedo += w * a.albedoAt(stencil.ijk(c));
+      if (view_.phase_source == PhaseSource::kSggx) S += w * a.S(stencil.ijk(c));
+      if (view_.phase_source == PhaseSource::kHgGrid) g += w * a.hgAt(stencil.ijk(c));
     }
     if (!(total > 0)) return f;  // no density here: nothing scatters
     albedo /= total;
