@@ -82,7 +82,7 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (app.count("--res")) std::tie(scene.render.width, scene.render.height) = parseResolution(f.res);
   if (app.count("--spp")) scene.render.spp = f.spp;
   if (app.count("--time")) scene.render.time_seconds = f.time;
-  if (app.count("--time") && !app.count("--spp")) scene.render.spp = 1 << 30;
+  if (app.count("--time") && !app.count("--spp") && !scene.spp_given) scene.render.spp = 1 << 30;
   if (app.count("--seed")) scene.render.seed = f.seed;
   if (app.count("--max-depth")) scene.render.path.max_depth = f.max_depth;
   if (app.count("--interp")) scene.interpolation = parseInterpolation(f.interp);
@@ -212,6 +212,8 @@ int main(int argc, char** argv) {
     const RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     const CameraPose pose = cameraOf(scene, medium.get());
     const PinholeCamera camera(pose, scene.render.width, scene.render.height);
+    if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
+      throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
     const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };

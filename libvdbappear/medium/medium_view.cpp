@@ -126,7 +126,7 @@ void MediumView::Impl::readLobes() {
       if ((w->x() < 0 || w->y() < 0 || w->z() < 0))
         fail(lobe.weight->getName(), fmt::format("negative lobe weight at ({},{},{})", w.getCoord().x(), w.getCoord().y(), w.getCoord().z()));
       const openvdb::Coord ijk = w.getCoord();
-      if (!(density.getValue(ijk) > 0)) continue;
+      if (!(density.getValue(ijk) > 0) || !density.isValueOn(ijk)) continue;  // inactive: empty space
       const openvdb::Vec3s off = lobe.offdiag ? lobe.offdiag->tree().getValue(ijk) : openvdb::Vec3s(0.0f);
       if (!isPositiveDefinite(toVec3(diag.getValue(ijk)), toVec3(off)))
         fail(lobe.diag->getName(), fmt::format("S of a lobe with weight is not positive definite at voxel ({},{},{})",
@@ -177,7 +177,7 @@ void MediumView::Impl::readClusters() {
 
 MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignore_sggx)
     : impl_(std::make_unique<Impl>()) {
-  if (ignore_sggx && medium->hasSggx()) {
+  if (ignore_sggx && medium->hasSggx()) {  // lobe grids are ignored below
     medium = std::make_shared<Medium>(*medium);  // shares the grids
     medium->sggx_diag = nullptr;
     medium->sggx_offdiag = nullptr;
@@ -188,6 +188,7 @@ MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignor
   impl_->findTransform();
   impl_->findBounds();
   impl_->findPhaseSource();
+  if (ignore_sggx && impl_->phase_source == PhaseSource::kLobes) impl_->phase_source = PhaseSource::kIsotropic;
   if (impl_->phase_source == PhaseSource::kLobes) impl_->readLobes();
   if (impl_->phase_source == PhaseSource::kTable) impl_->readTables();
   impl_->readClusters();

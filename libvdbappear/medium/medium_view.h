@@ -51,8 +51,8 @@ class MediumView {
   // Builds the majorant grid and the phase tables; checks what the reader leaves to the tools
   // that use it (lobe S positive definite where the lobe has weight, phase_id within the tables,
   // tables normalisable), throwing MediumError that names the file and the grid.
-  // ignore_sggx: render as if the medium had no SGGX grids (S = I), for comparisons with renderers
-  // that lack SGGX.
+  // ignore_sggx: render as if the medium had no SGGX grids, base or lobe (S = I, isotropic
+  // scattering), for comparisons with renderers that lack SGGX.
   MediumView(MediumPtr medium, Interpolation interpolation, bool ignore_sggx = false);
   ~MediumView();
   MediumView(const MediumView&) = delete;

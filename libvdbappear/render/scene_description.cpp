@@ -82,8 +82,8 @@ json checkedLight(json light, const std::string& folder, const std::string& sour
   else if (type == "polygon" || type == "triangle") checkKeys(light, {"type", "vertices", "radiance", "two_sided"}, source, where);
   else fail(source, where, "unknown light type '" + type + "' (env, env_map, sh, sun, point, quad, polygon)");
   if (type == "env_map") {
-    if (!light.contains("file") || !light["file"].is_string()) fail(source, where, "env_map needs a \"file\"");
-    light["file"] = resolve(folder, light["file"]);
+    if (!light.contains("file") || !light.at("file").is_string()) fail(source, where, "env_map needs a \"file\"");
+    light.at("file") = resolve(folder, light.at("file"));
   }
   return light;
 }
@@ -105,6 +105,7 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
       fail(source, "resolution", "sizes must lie in 1..16384");
   }
   if (json.contains("spp")) {
+    scene->spp_given = true;
     scene->render.spp = numberOf<int>(json["spp"], source, "spp");
     if (scene->render.spp < 1) fail(source, "spp", "must be >= 1");
   }
@@ -173,23 +174,23 @@ std::unique_ptr<Light> makeLight(const json& light, const ImageReader& read_imag
   const std::string source = "light";
   if (type == "env") return EnvironmentLight::constant(rgbOf(light.value("radiance", json(1.0)), source, "radiance"));
   if (type == "env_map") {
-    const RgbImage image = read_image(light["file"].get<std::string>());
+    const RgbImage image = read_image(light.at("file").get<std::string>());
     return EnvironmentLight::fromImage(image.width, image.height, image.pixels, light.value("scale", 1.0));
   }
   if (type == "sh") return EnvironmentLight::sphericalHarmonic(light.value("l", 0), light.value("m", 0), light.value("scale", 1.0));
   if (type == "sun")
-    return std::make_unique<DirectionalLight>(vec3Of(light["direction"], source, "direction"),
+    return std::make_unique<DirectionalLight>(vec3Of(light.at("direction"), source, "direction"),
                                               rgbOf(light.value("strength", json(1.0)), source, "strength"));
   if (type == "point")
-    return std::make_unique<PointLight>(vec3Of(light["position"], source, "position"),
+    return std::make_unique<PointLight>(vec3Of(light.at("position"), source, "position"),
                                         rgbOf(light.value("intensity", json(1.0)), source, "intensity"));
   std::vector<Vec3> vertices;
   if (type == "quad") {
-    const Vec3 corner = vec3Of(light["corner"], source, "corner");
-    const Vec3 e1 = vec3Of(light["edge1"], source, "edge1"), e2 = vec3Of(light["edge2"], source, "edge2");
+    const Vec3 corner = vec3Of(light.at("corner"), source, "corner");
+    const Vec3 e1 = vec3Of(light.at("edge1"), source, "edge1"), e2 = vec3Of(light.at("edge2"), source, "edge2");
     vertices = {corner, corner + e1, corner + e1 + e2, corner + e2};
   } else {
-    for (const auto& v : light["vertices"]) vertices.push_back(vec3Of(v, source, "vertices"));
+    for (const auto& v : light.at("vertices")) vertices.push_back(vec3Of(v, source, "vertices"));
   }
   *triangles = AreaLight::fanTriangulate(vertices);
   return std::make_unique<AreaLight>(*triangles, rgbOf(light.value("radiance", json(1.0)), source, "radiance"),

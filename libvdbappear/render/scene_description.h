@@ -41,6 +41,7 @@ struct SceneDescription {
   bool camera_given = false;         // position/target set explicitly
   Interpolation interpolation = Interpolation::kNearest;
   RenderSettings render;
+  bool spp_given = false;            // the file set "spp" (with "time" or --time, it caps the samples)
   nlohmann::json lights = nlohmann::json::array();
   std::optional<GroundDescription> ground;
   std::vector<MeshDescription> meshes;

@@ -119,13 +119,15 @@ struct BadInput {
 TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   TempDir dir;
   const std::string out = dir.path("out.exr");
-  const std::string truncated = dir.path("truncated.vdb"), scene = dir.path("bad.json"), typo = dir.path("typo.json");
+  const std::string truncated = dir.path("truncated.vdb"), scene = dir.path("bad.json"), typo = dir.path("typo.json"),
+                    sunless = dir.path("sunless.json");
   {
     std::ifstream in(std::string(GOLDEN_DIR) + "/cube8.vdb", std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), {});
     std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
     std::ofstream(scene) << R"({"lights": [{"type": "laser"}]})";
     std::ofstream(typo) << R"({"sppp": 4})";
+    std::ofstream(sunless) << R"({"lights": [{"type": "sun", "strength": 3}]})";
   }
   const std::vector<BadInput> cases{
       {"missing medium", quote(dir.path("none.vdb")), "none.vdb: no such file"},
@@ -138,6 +140,8 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"two-value colour", kCube + " --env 1,2", "--env: give one value or three"},
       {"unknown light type", kCube + " --scene " + quote(scene), "unknown light type 'laser'"},
       {"unknown scene key", kCube + " --scene " + quote(typo), "sppp: unknown key"},
+      {"sun without direction", kCube + " --scene " + quote(sunless), "lights[0]"},
+      {"cluster AOV without clusters", kCube + " --aov cluster", "--aov cluster needs a medium with a 'cluster' grid"},
       {"missing scene", kCube + " --scene " + quote(dir.path("none.json")), "cannot open the scene file"},
       {"target without position", kCube + " --camera-target 0,0,0", "--camera-target needs --camera-pos"},
       {"camera at its target", kCube + " --camera-pos 1,1,1 --camera-target 1,1,1", "position and target coincide"},
