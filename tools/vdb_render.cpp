@@ -10,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <optional>
 
 using namespace vdbappear;
@@ -114,9 +113,6 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance or cluster");
     scene.render.cluster_coverage = true;
   }
-  const std::string extension = std::filesystem::path(f.output).extension().string();
-  if (!f.aovs.empty() && extension != ".exr" && extension != ".EXR")
-    throw std::runtime_error(f.output + ": --aov needs an .exr output");
   if (scene.medium.empty() && scene.meshes.empty()) throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene)");
   if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
   return scene;
@@ -201,6 +197,9 @@ int main(int argc, char** argv) {
   return tool::run(app, argc, argv, [&] {
     threads.apply();
     SceneDescription scene = sceneOf(app, flags);
+    const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
+    const RenderOutputs outputs{flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage};
+    checkRenderOutputs(outputs);
     tool::checkDistinct(scene.medium, flags.output, flags.report);
     tool::checkDistinct(scene.medium, flags.preview, flags.output);
     checkWritable(flags.output);
@@ -216,8 +215,7 @@ int main(int argc, char** argv) {
       throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
-    const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
-    writeRenderOutputs(result, {flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage});
+    writeRenderOutputs(result, outputs);
     const nlohmann::json report = reportOf(scene, pose, result, medium.get());
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
     if (flags.verbose)

@@ -19,12 +19,17 @@ float linearToSrgb(float linear) {
   return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1 / 2.4f) - 0.055f;
 }
 
-void writeImage(const RgbImage& image, const std::string& path) {
-  namespace OIIO = OIIO_NAMESPACE;
+std::string imageFormat(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   if (extension.empty()) throw MediumError(fmt::format("{}: no extension to choose the image format by", path));
   extension = extension.substr(1);
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+  return extension;
+}
+
+void writeImage(const RgbImage& image, const std::string& path) {
+  namespace OIIO = OIIO_NAMESPACE;
+  const std::string extension = imageFormat(path);
   AtomicFile file(path);  // before the writer, so the writer closes the temporary file first
   auto output = OIIO::ImageOutput::create(extension);  // by format: the temporary name has no extension
   if (!output) throw MediumError(fmt::format("{}: cannot write .{} images: {}", path, extension, OIIO::geterror()));

@@ -11,6 +11,10 @@ namespace vdbappear {
 
 void writeImage(const RgbImage& image, const std::string& path);
 
+// The format an image path is written in: its extension, lower-cased, without the dot ("exr",
+// "png"). Throws MediumError when the path has no extension.
+std::string imageFormat(const std::string& path);
+
 // Named float channels, interleaved per pixel (e.g. R, G, B, variance.R, ..., cluster.0, ...).
 struct ImageChannels {
   int width = 0, height = 0;

@@ -4,21 +4,9 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <cctype>
-#include <filesystem>
 
 namespace vdbappear {
 
-namespace {
-
-std::string lowerExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
-  return extension;
-}
-
-}  // namespace
 
 ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs) {
   ImageChannels image;
@@ -48,13 +36,18 @@ RgbImage renderRgb(const RenderResult& result) {
   return image;
 }
 
+void checkRenderOutputs(const RenderOutputs& outputs) {
+  const bool aovs = outputs.alpha || outputs.variance || outputs.clusters;
+  if (aovs && imageFormat(outputs.image) != "exr")
+    throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
+  if (!outputs.preview.empty()) imageFormat(outputs.preview);
+}
+
 void writeRenderOutputs(const RenderResult& result, const RenderOutputs& outputs) {
-  const std::string extension = lowerExtension(outputs.image);
-  if (extension == ".exr") {
+  checkRenderOutputs(outputs);
+  if (imageFormat(outputs.image) == "exr") {
     writeExr(renderChannels(result, outputs), outputs.image);
   } else {
-    if (outputs.alpha || outputs.variance || outputs.clusters)
-      throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
     writeImage(renderRgb(result), outputs.image);
   }
   if (!outputs.preview.empty()) writeImage(renderRgb(result), outputs.preview);

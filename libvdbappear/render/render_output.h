@@ -26,6 +26,9 @@ struct RenderOutputs {
 
 ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs);
 RgbImage renderRgb(const RenderResult& result);
+// Throws MediumError when the outputs cannot be written as asked (AOVs in a file that is not EXR,
+// no extension): tools call it before rendering, writeRenderOutputs again before writing.
+void checkRenderOutputs(const RenderOutputs& outputs);
 void writeRenderOutputs(const RenderResult& result, const RenderOutputs& outputs);
 
 }  // namespace vdbappear

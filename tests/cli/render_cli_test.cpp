@@ -158,7 +158,7 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   }
   const auto aov = runCommand(kRender + " " + kCube + " --aov variance -o " + quote(dir.path("x.png")));
   EXPECT_NE(aov.status, 0);
-  EXPECT_NE(aov.err.find("--aov needs an .exr output"), std::string::npos) << aov.err;
+  EXPECT_NE(aov.err.find("x.png: AOVs need an .exr output"), std::string::npos) << aov.err;
   EXPECT_TRUE(std::filesystem::is_empty(dir.path("")) || !exists(dir.path("x.png")));
 }
 
