@@ -37,10 +37,10 @@ int main(int argc, char** argv) {
   app.add_option("--report", report, "write the numbers as JSON (- for stdout; default: a line on stdout)");
 
   return tool::run(app, argc, argv, [&] {
-    const RgbImage a = readRgbImage(reference), b = readRgbImage(test);
+    const ImageChannels channels = readImageChannels(reference);  // once: RGB, and alpha for --foreground
+    const RgbImage a = rgbOf(channels), b = readRgbImage(test);
     std::vector<bool> mask;
     if (foreground) {
-      const ImageChannels channels = readImageChannels(reference);
       const int alpha = channels.find("A");
       if (alpha < 0) throw std::runtime_error(reference + ": --foreground needs an alpha channel A (vdb_render --aov alpha)");
       for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)

@@ -89,8 +89,9 @@ ImageChannels readImageChannels(const std::string& path) {
   return image;
 }
 
-RgbImage readRgbImage(const std::string& path) {
-  const ImageChannels channels = readImageChannels(path);
+RgbImage readRgbImage(const std::string& path) { return rgbOf(readImageChannels(path)); }
+
+RgbImage rgbOf(const ImageChannels& channels) {
   const int n = int(channels.names.size());
   RgbImage image(channels.width, channels.height);
   for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)

@@ -29,6 +29,7 @@ void writeExr(const ImageChannels& image, const std::string& path);
 ImageChannels readImageChannels(const std::string& path);
 // The first three channels as RGB (one channel: grey); throws MediumError naming the file.
 RgbImage readRgbImage(const std::string& path);
+RgbImage rgbOf(const ImageChannels& channels);
 
 // Linear to sRGB-encoded (IEC 61966-2-1), clamped to [0,1].
 float linearToSrgb(float linear);
