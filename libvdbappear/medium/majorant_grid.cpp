@@ -36,7 +36,7 @@ double largestEigenvalue(const openvdb::Vec3s& diag, const openvdb::Vec3s& offdi
 }
 
 struct LeafBound {
-  float max_rho_sqrt_lambda = 0;  // the nearest-lookup bound
+  float max_rho_sqrt_lambda = 0;  // the nearest-lookup bound (with_lambda only)
   float max_rho = 0;              // > 0: the block holds density
 };
 
@@ -45,7 +45,9 @@ constexpr int kBlocksPerLeaf = kBlocksPerLeafAxis * kBlocksPerLeafAxis * kBlocks
 using LeafBounds = std::array<LeafBound, kBlocksPerLeaf>;
 
 // The bounds of the majorant blocks of one 8^3 leaf of density (a leaf, or part of a tile).
-LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin) {
+// with_lambda: compute the nearest-lookup bound (trilinear lookups bound their grown blocks later,
+// and only need to know which blocks hold density).
+LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin, bool with_lambda) {
   const LeafValues<openvdb::FloatTree> rho(medium.density->tree(), origin);
   const auto diag = medium.sggx_diag ? LeafValues<openvdb::Vec3STree>(medium.sggx_diag->tree(), origin)
                                      : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(1.0f));
@@ -56,7 +58,7 @@ LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin) {
   for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
     const double r = rho[i];
     if (!(r > 0) || (leaf && !leaf->isValueOn(i))) continue;  // inactive voxels are empty space
-    const double lambda = medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
+    const double lambda = with_lambda && medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
     // Leaf offsets are x-major: i = 64 x + 8 y + z.
     const int x = int(i >> 6) / kMajorantBlock, y = int((i >> 3) & 7) / kMajorantBlock, z = int(i & 7) / kMajorantBlock;
     LeafBound& bound = bounds[(x * kBlocksPerLeafAxis + y) * kBlocksPerLeafAxis + z];
@@ -86,7 +88,7 @@ openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation in
   const std::vector<openvdb::Coord> origins = densityBlocks(medium.density->tree());
   std::vector<LeafBounds> leaf_bounds(origins.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) leaf_bounds[i] = boundsOfLeaf(medium, origins[i]);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) leaf_bounds[i] = boundsOfLeaf(medium, origins[i], interpolation == Interpolation::kNearest);
   });
   // Flatten to (block coordinate, bound).
   std::vector<openvdb::Coord> blocks;
