@@ -1,5 +1,6 @@
 // vdb_render from the command line: outputs and AOVs, determinism over threads, scene files and
 // flag overrides, and one clear error (no output file) for each kind of bad input.
+#include "libvdbappear/image/image_file.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
 
@@ -7,7 +8,6 @@
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
-#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -26,22 +26,6 @@ const std::string kCube = quote(std::string(GOLDEN_DIR) + "/cube8.vdb");
 
 bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<std::string> channels;
-  std::vector<float> values;
-};
-
-Image readImage(const std::string& path) {
-  auto input = OIIO::ImageInput::open(path);
-  if (!input) return {};
-  const OIIO::ImageSpec& spec = input->spec();
-  Image image{spec.width, spec.height, spec.channelnames, {}};
-  image.values.resize(std::size_t(spec.width) * spec.height * spec.nchannels);
-  input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.values.data());
-  return image;
-}
-
 TEST(RenderCli, HelpHasExamples) {
   const auto help = runCommand(kRender + " --help");
   ASSERT_EQ(help.status, 0);
@@ -56,10 +40,10 @@ TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
                             " --res 12x8 --spp 4 --view -x --sun 1,0,-1,2 --env 0.1 --ground --aov variance --report " +
                             quote(report));
   ASSERT_EQ(r.status, 0) << r.err;
-  const Image image = readImage(out);
+  const ImageChannels image = readImageChannels(out);
   EXPECT_EQ(image.width, 12);
   EXPECT_EQ(image.height, 8);
-  EXPECT_EQ(image.channels, (std::vector<std::string>{"R", "G", "B", "variance.R", "variance.G", "variance.B"}));
+  EXPECT_EQ(image.names, (std::vector<std::string>{"R", "G", "B", "variance.R", "variance.G", "variance.B"}));
   EXPECT_TRUE(exists(png));
   std::ifstream in(report);
   const auto json = nlohmann::json::parse(in);
@@ -74,7 +58,7 @@ TEST(RenderCli, SameImageWithOneThreadOrAll) {
   const std::string args = " --res 16 --spp 3 --seed 7 --view +y --sun 0,1,-1,3";
   ASSERT_EQ(runCommand(kRender + " " + kCube + args + " -j 1 -o " + quote(a)).status, 0);
   ASSERT_EQ(runCommand(kRender + " " + kCube + args + " -o " + quote(b)).status, 0);
-  EXPECT_EQ(readImage(a).values, readImage(b).values);
+  EXPECT_EQ(readImageChannels(a).values, readImageChannels(b).values);
 }
 
 TEST(RenderCli, ClusterAovMarksWhereEachClusterIsVisible) {
@@ -86,9 +70,9 @@ TEST(RenderCli, ClusterAovMarksWhereEachClusterIsVisible) {
   cube->other_grids.push_back(cluster);
   writeMedium(*cube, medium, "test");
   ASSERT_EQ(runCommand(kRender + " " + quote(medium) + " -o " + quote(out) + " --res 16 --spp 16 --view +z --aov cluster").status, 0);
-  const Image image = readImage(out);
-  ASSERT_EQ(image.channels.size(), 5u);
-  EXPECT_EQ(image.channels[3], "cluster.0");
+  const ImageChannels image = readImageChannels(out);
+  ASSERT_EQ(image.names.size(), 5u);
+  EXPECT_EQ(image.names[3], "cluster.0");
   const auto at = [&](int x, int y, int c) { return image.values[(std::size_t(y) * image.width + x) * 5 + c]; };
   // Seen from +z with +y up, world x grows to the right: cluster 0 (x < 4) on the left.
   const float left0 = at(5, 8, 3), left1 = at(5, 8, 4), right0 = at(10, 8, 3), right1 = at(10, 8, 4);
@@ -104,10 +88,10 @@ TEST(RenderCli, FlagsOverrideTheSceneFile) {
                              "lights": [{"type": "quad", "corner": [-1, -1, 2], "edge1": [2, 0, 0], "edge2": [0, 2, 0],
                                          "radiance": 4}], "ground": {"albedo": 0.3}})";
   ASSERT_EQ(runCommand(kRender + " --scene " + quote(scene) + " -o " + quote(out) + " --report " + quote(report)).status, 0);
-  EXPECT_EQ(readImage(out).width, 10);
+  EXPECT_EQ(readImageChannels(out).width, 10);
   ASSERT_EQ(runCommand(kRender + " --scene " + quote(scene) + " -o " + quote(out) + " --res 4x4 --spp 3 --report " +
                        quote(report)).status, 0);
-  EXPECT_EQ(readImage(out).width, 4);
+  EXPECT_EQ(readImageChannels(out).width, 4);
   std::ifstream in(report);
   EXPECT_EQ(nlohmann::json::parse(in)["spp"], 3);
 }
