@@ -9,8 +9,11 @@ as 1/sqrt(spp), so the time to reach a relative noise EPS is  t(spp) * (noise / 
 Cycles' time excludes its scene sync: it is rendered at two sample counts and the per-sample time
 is their difference (vdb_render's "seconds" likewise excludes reading the medium).
 
-Blender (Debian's blender 3.4) is installed with apt when missing and --no-blender is not given;
-it is never a build or test dependency. Results: bench-out/render_report.md and .json.
+Blender (Debian's blender 3.4) and python3-openvdb are installed with apt when missing and
+--no-blender is not given; they are never build or test dependencies.
+Cycles interpolates the albedo grid on its own, which mixes the empty voxels' albedo into a fibre's edge;
+vdb_render weights albedo by density. On the coloured twill Cycles renders both ways: as given, and with
+vdb_render's albedo (a premultiplied grid, scripts/premultiply_albedo.py). Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
        [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud]
 """
@@ -28,7 +31,8 @@ MEDIA = {
     # name: (vdb_make_medium arguments, view, vdb_render flags for the shared scene, note)
     "twill": (["twill", "--res", "256"], "+z", ["--no-sggx"],
               "Cycles has no SGGX: both render the twill's density with S = I (vdb_render --no-sggx), "
-              "isotropic; the row 'vdb_render SGGX' is the real medium, for reference"),
+              "isotropic; the row 'vdb_render SGGX' is the real medium, for reference. 'Cycles' interpolates "
+              "albedo plainly (a different medium at fibre edges), 'density-weighted albedo' gets vdb_render's"),
     "twill-white": (["twill", "--res", "256", "--warp-albedo", "1", "--weft-albedo", "1"], "+z", ["--no-sggx"],
                     "the twill with albedo 1 everywhere, so that Cycles' plain albedo interpolation (which mixes "
                     "the grid's background 1 into a fibre's edge) cannot make its medium brighter: the same "
@@ -49,6 +53,28 @@ def ensure_blender():
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
     subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "blender"], check=True, env=env)
     return shutil.which("blender") is not None
+
+
+def ensure_pyopenvdb():
+    """Debian's python3-openvdb, for scripts/premultiply_albedo.py (benchmark only)."""
+    probe = subprocess.run(["/usr/bin/python3", "-c", "import pyopenvdb, numpy"], capture_output=True)
+    if probe.returncode == 0:
+        return True
+    print("bench: installing Debian's python3-openvdb (benchmark only)", file=sys.stderr)
+    sudo = [] if os.geteuid() == 0 else ["sudo"]
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "python3-openvdb",
+                           "python3-numpy"], check=True, env=env)
+    return True
+
+
+def cycles_medium(vdb, out, name):
+    """The medium as Cycles gets it: with a premultiplied "sigma_s" grid when it has an albedo grid, so that
+    Cycles interpolates density-weighted albedo as vdb_render does (scripts/premultiply_albedo.py)."""
+    dst = out / f"{name}_256_cycles.vdb"
+    if not dst.exists():
+        run(["/usr/bin/python3", str(pathlib.Path(__file__).with_name("premultiply_albedo.py")), str(vdb), str(dst)])
+    return dst
 
 
 def compare(bin_dir, a, b):
@@ -78,7 +104,7 @@ def bench_vdb_render(bin_dir, out, name, vdb, view, flags, label, args):
             "scattering_events": reports[0]["mean_scattering_events"]}
 
 
-def bench_cycles(bin_dir, out, name, vdb, camera, args):
+def bench_cycles(bin_dir, out, name, vdb, camera, args, label="cycles", note=""):
     script = pathlib.Path(__file__).with_name("blender_scene.py")
 
     def render(spp, seed, exr):
@@ -92,15 +118,15 @@ def bench_cycles(bin_dir, out, name, vdb, camera, args):
         return json.loads(next(line for line in lines if line.startswith("{")))
 
     small = max(1, args.blender_spp // 8)
-    r1 = render(args.blender_spp, 1, out / f"{name}_cycles_1.exr")
-    r2 = render(args.blender_spp, 2, out / f"{name}_cycles_2.exr")
-    r0 = render(small, 3, out / f"{name}_cycles_small.exr")
+    r1 = render(args.blender_spp, 1, out / f"{name}_{label}_1.exr")
+    r2 = render(args.blender_spp, 2, out / f"{name}_{label}_2.exr")
+    r0 = render(small, 3, out / f"{name}_{label}_small.exr")
     wall = (r1["seconds"] + r2["seconds"]) / 2
     per_sample = (wall - r0["seconds"]) / (args.blender_spp - small)
     seconds = per_sample * args.blender_spp  # path tracing only, sync excluded
-    noise, mean = noise_of(bin_dir, out / f"{name}_cycles_1.exr", out / f"{name}_cycles_2.exr")
+    noise, mean = noise_of(bin_dir, out / f"{name}_{label}_1.exr", out / f"{name}_{label}_2.exr")
     pixels = args.res * args.res
-    return {"renderer": "Cycles " + r1["blender"], "spp": args.blender_spp, "seconds": seconds, "wall_seconds": wall,
+    return {"renderer": "Cycles " + r1["blender"] + note, "spp": args.blender_spp, "seconds": seconds, "wall_seconds": wall,
             "paths_per_second": pixels * args.blender_spp / seconds, "relative_noise": noise, "mean": mean,
             "time_to_eps": seconds * (noise / args.eps) ** 2}
 
@@ -119,7 +145,7 @@ def main():
     bin_dir = pathlib.Path(args.build) / "bin"
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    blender = not args.no_blender and ensure_blender()
+    blender = not args.no_blender and ensure_blender() and ensure_pyopenvdb()
     results = {}
     for name in args.media.split(","):
         make_args, view, flags, note = MEDIA[name]
@@ -131,6 +157,9 @@ def main():
         if blender:
             print(f"bench: {name}: Cycles", file=sys.stderr)
             rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args))
+            if name == "twill":  # the one medium whose albedo varies: also give Cycles vdb_render's albedo
+                rows.append(bench_cycles(bin_dir, out, name, cycles_medium(vdb, out, name), rows[0]["camera"], args,
+                                         "cycles_weighted", ", density-weighted albedo"))
         if flags and name == "twill":
             rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, [], "vdb_render_SGGX", args))
         results[name] = {"note": note, "rows": rows}
@@ -148,11 +177,11 @@ def main():
     for name, r in results.items():
         rows = r["rows"]
         lines.append(f"- {name}: {r['note']}.")
-        if len(rows) >= 2 and rows[1]["renderer"].startswith("Cycles"):
-            ratio = rows[1]["time_to_eps"] / rows[0]["time_to_eps"]
-            diff = (rows[0]["mean"] - rows[1]["mean"]) / rows[1]["mean"]
-            lines.append(f"  Cycles needs {ratio:.2f}x vdb_render's time to the same noise; image means differ by "
-                         f"{diff:+.2%}.")
+        for cycles in (row for row in rows if row["renderer"].startswith("Cycles")):
+            ratio = cycles["time_to_eps"] / rows[0]["time_to_eps"]
+            diff = (cycles["mean"] - rows[0]["mean"]) / rows[0]["mean"]
+            lines.append(f"  {cycles['renderer']} needs {ratio:.2f}x vdb_render's time to the same noise; its image "
+                         f"mean is {diff:+.2%} off vdb_render's.")
     text = "\n".join(lines) + "\n"
     (out / "render_report.md").write_text(text)
     (out / "render_report.json").write_text(json.dumps(results, indent=2))

@@ -6,7 +6,7 @@ Run headless, never imported:
       --vdb FILE.vdb --out OUT.exr [--res 256 | --res WxH] --spp N \
       --camera-pos x,y,z --camera-target x,y,z [--camera-up 0,0,1] [--fov 30] \
       [--env R | --env R,G,B] [--sun DX,DY,DZ,STRENGTH] [--threads T] [--seed S] \
-      [--openvdb-voxel-centres] [--force]
+      [--openvdb-voxel-centres] [--force] [--step-rate R] [--volume-bounces N]
 
 Writes OUT.exr (linear scene-referred RGB, 32-bit float, no view transform) and prints one JSON line
 on stdout, e.g. {"seconds": 12.3, "spp": 64, ...}. Blender prints its own lines around it
@@ -27,6 +27,9 @@ Unit conventions, matched to vdb_render (libvdbappear/render/*.h, docs/medium.md
   Absorption node with colour C and density D adds extinction (1 - C)*D (= sigma_a). So both nodes
   take C = albedo attribute and D = density attribute, added together:
       sigma_s = albedo*rho,  sigma_a = (1 - albedo)*rho,  sigma_t = sigma_s + sigma_a = rho.
+  With a grid "sigma_s" = rho*albedo (scripts/premultiply_albedo.py) the colour is instead
+  min(1, sigma_s / rho), interpolated separately: vdb_render's density-weighted albedo (see
+  density_weighted_albedo).
   No Principled Volume: its "Density Attribute" (default "density") multiplies the Density input,
   and its absorption term is (1 - C)(1 - sqrt(AbsorptionColor))*D; explicit nodes avoid both traps.
   Attribute nodes read volume grids by name as float4 (kernel/svm/attribute.h): Fac of a float grid
@@ -149,6 +152,9 @@ def parse_args():
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--step-rate", type=float, default=1.0,
                    help="Cycles' volume step rate (default 1.0: one voxel per step; smaller is finer)")
+    p.add_argument("--volume-bounces", type=int, default=1024,
+                   help="Cycles' volume bounce limit (default 1024; 0: single scattering, "
+                        "as vdb_render --max-depth 1)")
     p.add_argument("--openvdb-voxel-centres", action="store_true",
                    help="shift the object by half a voxel so voxel i's value sits at index i (OpenVDB)")
     p.add_argument("--force", action="store_true",
@@ -158,6 +164,8 @@ def parse_args():
         p.error("--spp must be at least 1")
     if not (0 < a.fov < 180):
         p.error("--fov must lie in (0, 180) degrees")
+    if a.volume_bounces < 0:
+        p.error("--volume-bounces must be >= 0")
     if a.threads < 0:
         p.error("--threads must be >= 0")
     if a.env is not None and any(v < 0 for v in a.env):
@@ -265,9 +273,35 @@ def load_volume(path):
     return vol, grids
 
 
+def attribute(nt, name):
+    node = nt.nodes.new("ShaderNodeAttribute")
+    node.attribute_type = "GEOMETRY"
+    node.attribute_name = name
+    return node
+
+
+def density_weighted_albedo(nt, density, sigma_s):
+    """trilinear(rho * albedo) / trilinear(rho): the albedo vdb_render's trilinear lookup sees, from the
+    separately interpolated grids "sigma_s" and "density" (Cycles' vector divide gives 0 where rho = 0),
+    used as a colour with density rho. Clamped to 1: in Cycles 3.4 the ratio exceeds 1 in places, so its
+    vector and float grids are not sampled at exactly the same points; unclamped, the coloured twill renders
+    with fireflies (pixels up to 50 where vdb_render's reach 0.6) and a 10% brighter mean."""
+    divide = nt.nodes.new("ShaderNodeVectorMath")
+    divide.operation = "DIVIDE"
+    nt.links.new(sigma_s.outputs["Color"], divide.inputs[0])
+    nt.links.new(density.outputs["Color"], divide.inputs[1])  # Color of a float grid: (v, v, v)
+    clamp = nt.nodes.new("ShaderNodeVectorMath")
+    clamp.operation = "MINIMUM"
+    nt.links.new(divide.outputs["Vector"], clamp.inputs[0])
+    clamp.inputs[1].default_value = (1.0, 1.0, 1.0)
+    return clamp.outputs["Vector"]
+
+
 def medium_material(grids, hg_g):
     """Volume Scatter (colour albedo, density rho, anisotropy g) + Volume Absorption (colour albedo,
-    density rho): sigma_s = albedo*rho, sigma_a = (1-albedo)*rho, sigma_t = rho (see module doc)."""
+    density rho): sigma_s = albedo*rho, sigma_a = (1-albedo)*rho, sigma_t = rho (see module doc).
+    With a premultiplied grid "sigma_s" (scripts/premultiply_albedo.py) the albedo is
+    density_weighted_albedo, so that sigma_s = trilinear(rho*albedo) as in vdb_render."""
     mat = bpy.data.materials.new("medium")
     mat.use_nodes = True
     nt = mat.node_tree
@@ -275,27 +309,25 @@ def medium_material(grids, hg_g):
     out = nt.nodes.new("ShaderNodeOutputMaterial")
     out.target = "ALL"
 
-    density = nt.nodes.new("ShaderNodeAttribute")
-    density.attribute_type = "GEOMETRY"
-    density.attribute_name = "density"
-
+    density = attribute(nt, "density")
     scatter = nt.nodes.new("ShaderNodeVolumeScatter")
     nt.links.new(density.outputs["Fac"], scatter.inputs["Density"])
     if "hg_g" in grids:
-        g_attr = nt.nodes.new("ShaderNodeAttribute")
-        g_attr.attribute_type = "GEOMETRY"
-        g_attr.attribute_name = "hg_g"
-        nt.links.new(g_attr.outputs["Fac"], scatter.inputs["Anisotropy"])
+        nt.links.new(attribute(nt, "hg_g").outputs["Fac"], scatter.inputs["Anisotropy"])
     else:
         scatter.inputs["Anisotropy"].default_value = hg_g
 
-    if "albedo" in grids:
-        albedo = nt.nodes.new("ShaderNodeAttribute")
-        albedo.attribute_type = "GEOMETRY"
-        albedo.attribute_name = "albedo"
+    if "sigma_s" in grids:
+        albedo = density_weighted_albedo(nt, density, attribute(nt, "sigma_s"))
+        note("albedo = sigma_s / density (density-weighted, as vdb_render's trilinear lookup)")
+    elif "albedo" in grids:
+        albedo = attribute(nt, "albedo").outputs["Color"]
+    else:
+        albedo = None
+    if albedo is not None:
         absorb = nt.nodes.new("ShaderNodeVolumeAbsorption")
-        nt.links.new(albedo.outputs["Color"], scatter.inputs["Color"])
-        nt.links.new(albedo.outputs["Color"], absorb.inputs["Color"])
+        nt.links.new(albedo, scatter.inputs["Color"])
+        nt.links.new(albedo, absorb.inputs["Color"])
         nt.links.new(density.outputs["Fac"], absorb.inputs["Density"])
         add = nt.nodes.new("ShaderNodeAddShader")
         nt.links.new(scatter.outputs["Volume"], add.inputs[0])
@@ -430,7 +462,7 @@ def configure_render(scene, a):
     set_if(c, "caustics_refractive", True, label)
     for name in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
                  "volume_bounces", "transparent_max_bounces"):
-        set_if(c, name, 1024, label)
+        set_if(c, name, a.volume_bounces if name == "volume_bounces" else 1024, label)
     set_if(c, "min_light_bounces", 0, label)
     set_if(c, "min_transparent_bounces", 0, label)
     set_if(c, "ao_bounces_render", 0, label)

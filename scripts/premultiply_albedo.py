@@ -1,0 +1,60 @@
+#!/usr/bin/python3
+"""Copy a medium and add the scattering coefficient sigma_s = density * albedo as a Vec3SGrid
+"sigma_s", for renderers that interpolate each grid on its own (Blender Cycles).
+
+Why: vdb_render's trilinear lookup weights albedo by density (sigma_s = trilinear(rho * albedo),
+docs/rendering.md). A renderer that interpolates "albedo" and "density" separately and multiplies
+them mixes the albedo of the empty voxels around a fibre (the grid's background) into the fibre's
+edge, and renders a different medium. Given "sigma_s", scripts/blender_scene.py builds the same
+coefficients as vdb_render: sigma_s = trilinear(rho * albedo), sigma_a = trilinear(rho) - sigma_s.
+
+Benchmark only (scripts/bench_render.py): needs Debian's python3-openvdb (pyopenvdb) and numpy,
+hence /usr/bin/python3 rather than whatever python3 comes first on PATH.
+
+Usage: scripts/premultiply_albedo.py IN.vdb OUT.vdb
+"""
+import sys
+
+import numpy as np
+import pyopenvdb as vdb
+
+
+def fail(message):
+    print("premultiply_albedo.py: error: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
+def main():
+    if len(sys.argv) != 3:
+        fail("usage: premultiply_albedo.py IN.vdb OUT.vdb")
+    src, dst = sys.argv[1], sys.argv[2]
+    grids, metadata = vdb.readAll(src)
+    by_name = {g.name: g for g in grids}
+    if "density" not in by_name:
+        fail(f"{src}: no grid named 'density'")
+    density = by_name["density"]
+    if "albedo" not in by_name:  # albedo 1: sigma_s = density, and Cycles needs no extra grid
+        vdb.write(dst, grids=grids, metadata=metadata)
+        return
+    albedo = by_name["albedo"]
+    (x0, y0, z0), (x1, y1, z1) = density.evalActiveVoxelBoundingBox()
+    shape = (x1 - x0 + 1, y1 - y0 + 1, z1 - z0 + 1)
+    rho = np.zeros(shape, dtype=np.float32)
+    density.copyToArray(rho, ijk=(x0, y0, z0))
+    if isinstance(albedo, vdb.FloatGrid):
+        a = np.zeros(shape, dtype=np.float32)
+        albedo.copyToArray(a, ijk=(x0, y0, z0))
+        a = np.repeat(a[..., None], 3, axis=-1)
+    else:
+        a = np.zeros(shape + (3,), dtype=np.float32)
+        albedo.copyToArray(a, ijk=(x0, y0, z0))
+    # copyToArray fills inactive voxels with the background: density 0 there, so sigma_s is 0 too.
+    sigma_s = vdb.Vec3SGrid(background=(0.0, 0.0, 0.0))
+    sigma_s.copyFromArray(rho[..., None] * a, ijk=(x0, y0, z0), tolerance=(0.0, 0.0, 0.0))
+    sigma_s.name = "sigma_s"
+    sigma_s.transform = density.transform
+    vdb.write(dst, grids=grids + [sigma_s], metadata=metadata)
+
+
+if __name__ == "__main__":
+    main()
