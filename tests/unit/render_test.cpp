@@ -122,6 +122,16 @@ void expectImage(const Render& r, double expected, const std::string& what) {
   EXPECT_EQ(r.result.tracking.majorant_violations, 0u) << what;
 }
 
+// Two renders of one scene agree: the means within 4 combined standard errors, every pixel within 5.
+void expectSameImage(const Render& a, const Render& b, const std::string& what) {
+  EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.error, b.error)) << what;
+  int outliers = 0;
+  for (std::size_t i = 0; i < a.result.mean.size(); ++i)
+    if (std::abs(a.result.mean[i] - b.result.mean[i]) > 5 * std::sqrt(a.result.variance[i] + b.result.variance[i]) + 1e-6)
+      ++outliers;
+  EXPECT_EQ(outliers, 0) << what;
+}
+
 struct FurnaceCase {
   std::string name;
   std::function<MediumPtr()> medium;
@@ -336,16 +346,23 @@ TEST(LightStrategies, AgreeWithinMonteCarloError) {
     settings.path.strategy = s;
     renders.push_back(render(medium, lights, settings, Interpolation::kNearest, "-y", GroundDescription{}));
   }
-  for (std::size_t k = 1; k < renders.size(); ++k) {
-    const Render &a = renders[0], &b = renders[k];
-    EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.error, b.error)) << "strategy " << k;
-    int outliers = 0;
-    for (std::size_t i = 0; i < a.result.mean.size(); ++i)
-      if (std::abs(a.result.mean[i] - b.result.mean[i]) > 5 * std::sqrt(a.result.variance[i] + b.result.variance[i]) + 1e-6)
-        ++outliers;
-    EXPECT_EQ(outliers, 0) << "strategy " << k;
-  }
+  for (std::size_t k = 1; k < renders.size(); ++k) expectSameImage(renders[0], renders[k], "strategy " + std::to_string(k));
   EXPECT_LT(renders[0].error, renders[2].error) << "MIS should beat phase sampling alone here";
+}
+
+// Russian roulette on the path throughput (from the first event on) and on shadow rays' ratio
+// tracking (always on) leaves the image unchanged: against paths that run until they escape.
+TEST(RussianRoulette, LeavesTheImageUnchanged) {
+  const MediumPtr medium = cube(10, 1.0, 6.0f, 0.7f);
+  const json lights = json::array({{{"type", "sun"}, {"direction", {1.0, 0.5, -1.0}}, {"strength", 2.0}},
+                                   {{"type", "env"}, {"radiance", 0.3}}});
+  std::vector<Render> renders;
+  for (const int roulette_depth : {1, 1 << 20}) {
+    RenderSettings settings = small(8, 512, 5);
+    settings.path.roulette_depth = roulette_depth;
+    renders.push_back(render(medium, lights, settings, Interpolation::kTrilinear, "+z", GroundDescription{}));
+  }
+  expectSameImage(renders[0], renders[1], "roulette from the first event");
 }
 
 TEST(Determinism, SameImageForAnyThreadCount) {
