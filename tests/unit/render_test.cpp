@@ -215,6 +215,47 @@ TEST(BeerLambert, AbsorbingCubeTransmitsExpMinusTau) {
   }
 }
 
+// Single scattering of sunlight in a slab seen from straight above, against its closed form
+// L = albedo E p(cos theta) mu0 / (mu0 + 1) (1 - exp(-tau (1 + 1/mu0))), mu0 the cosine of the sun's
+// zenith angle and theta the angle between the sun's direction of travel and the view ray's
+// reverse: isotropic, and HG g = 0.5 (back-scattering here, so the sign convention of g matters).
+TEST(SingleScattering, SunlitSlabMatchesClosedForm) {
+  for (const double g : {0.0, 0.5}) {
+    auto medium = std::make_shared<Medium>();
+    medium->source = "test slab";
+    const double h = 1.0 / 16, rho = 5, albedo = 0.8;  // 128 x 128 x 8 voxels: 8 x 8 x 0.5, tau = 2.5
+    const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(127, 127, 7));
+    medium->density = openvdb::FloatGrid::create(0.0f);
+    medium->density->setName(grid_names::kDensity);
+    medium->density->setTransform(openvdb::math::Transform::createLinearTransform(h));
+    medium->density->denseFill(box, float(rho), true);
+    medium->albedo = test::namedGridLike<openvdb::Vec3SGrid>(*medium, grid_names::kAlbedo, openvdb::Vec3s(1.0f));
+    medium->albedo->denseFill(box, openvdb::Vec3s(float(albedo)), true);
+    if (g != 0) medium->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(float(g)));
+    SceneDescription d;
+    const Vec3 sun(0.6, 0, -0.8);  // direction of travel, unit
+    d.lights = json::array({{{"type", "sun"}, {"direction", {sun.x(), sun.y(), sun.z()}}, {"strength", 3.0}}});
+    RenderSettings settings = small(4, 20000);
+    settings.path.max_depth = 1;
+    const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
+    const Vec3 centre = view->worldBounds().centre();
+    const RenderScene scene = buildRenderScene(d, view, {});
+    const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, 4, 4);
+    const RenderResult r = renderImage(scene, camera, settings);
+    const double mu0 = 0.8, tau = rho * 8 * h, cos_theta = sun.dot(Vec3(0, 0, 1));
+    const double phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g - 2 * g * cos_theta, 1.5));
+    const double expected = albedo * 3.0 * phase * mu0 / (mu0 + 1) * (1 - std::exp(-tau * (1 + 1 / mu0)));
+    const double n = double(r.mean.size());  // RGB values of 16 pixels
+    double mean = 0, variance = 0;
+    for (std::size_t i = 0; i < r.mean.size(); ++i) {
+      EXPECT_NEAR(r.mean[i], expected, 5 * std::sqrt(r.variance[i])) << "g " << g;
+      mean += r.mean[i] / n;
+      variance += r.variance[i] / (n * n);
+    }
+    EXPECT_NEAR(mean, expected, 4 * std::sqrt(variance)) << "g " << g;
+  }
+}
+
 TEST(BeerLambert, RatioTrackingEstimatesTransmittance) {
   auto medium = cube(16, 2.0, 3.0f, 0.5f);
   addRandomSggx(*medium, "sggx", 1);  // random S per voxel: integrate sigma(w) along the ray
