@@ -11,9 +11,11 @@ is their difference (vdb_render's "seconds" likewise excludes reading the medium
 
 Blender (Debian's blender 3.4) and python3-openvdb are installed with apt when missing and
 --no-blender is not given; they are never build or test dependencies.
-Cycles interpolates the albedo grid on its own, which mixes the empty voxels' albedo into a fibre's edge;
-vdb_render weights albedo by density. On the coloured twill Cycles renders both ways: as given, and with
-vdb_render's albedo (a premultiplied grid, scripts/premultiply_albedo.py). Results: bench-out/render_report.md and .json.
+Cycles interpolates the albedo grid on its own, which mixes the empty voxels' albedo into a fibre's edge,
+and it samples Vec3 grids at other points than float grids; vdb_render weights albedo by density. So
+Cycles gets premultiplied float grids sigma_s_r, _g, _b = rho * albedo (scripts/premultiply_albedo.py)
+and uses sigma_s / rho as albedo: the same medium. On the coloured twill it also renders the albedo grid
+as given, for reference. Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
        [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud]
 """
@@ -31,12 +33,10 @@ MEDIA = {
     # name: (vdb_make_medium arguments, view, vdb_render flags for the shared scene, note)
     "twill": (["twill", "--res", "256"], "+z", ["--no-sggx"],
               "Cycles has no SGGX: both render the twill's density with S = I (vdb_render --no-sggx), "
-              "isotropic; the row 'vdb_render SGGX' is the real medium, for reference. 'Cycles' interpolates "
-              "albedo plainly (a different medium at fibre edges), 'density-weighted albedo' gets vdb_render's"),
+              "isotropic; the row 'vdb_render SGGX' is the real medium, for reference. 'albedo grid as given': "
+              "Cycles interpolating the albedo grid itself, a different medium at fibre edges"),
     "twill-white": (["twill", "--res", "256", "--warp-albedo", "1", "--weft-albedo", "1"], "+z", ["--no-sggx"],
-                    "the twill with albedo 1 everywhere, so that Cycles' plain albedo interpolation (which mixes "
-                    "the grid's background 1 into a fibre's edge) cannot make its medium brighter: the same "
-                    "medium in both renderers"),
+                    "the twill with white yarns (per-fibre albedo 0.92 to 1): many more scattering events"),
     "cloud": (["cloud", "--res", "256"], "-y", [], "HG g = 0.9, albedo 0.98: the same scene in both renderers"),
 }
 
@@ -69,8 +69,8 @@ def ensure_pyopenvdb():
 
 
 def cycles_medium(vdb, out, name):
-    """The medium as Cycles gets it: with a premultiplied "sigma_s" grid when it has an albedo grid, so that
-    Cycles interpolates density-weighted albedo as vdb_render does (scripts/premultiply_albedo.py)."""
+    """The medium as Cycles gets it: with premultiplied grids sigma_s_r, _g, _b, so that Cycles interpolates
+    density-weighted albedo as vdb_render does (scripts/premultiply_albedo.py)."""
     dst = out / f"{name}_256_cycles.vdb"
     if not dst.exists():
         run(["/usr/bin/python3", str(pathlib.Path(__file__).with_name("premultiply_albedo.py")), str(vdb), str(dst)])
@@ -125,10 +125,20 @@ def bench_cycles(bin_dir, out, name, vdb, camera, args, label="cycles", note="")
     per_sample = (wall - r0["seconds"]) / (args.blender_spp - small)
     seconds = per_sample * args.blender_spp  # path tracing only, sync excluded
     noise, mean = noise_of(bin_dir, out / f"{name}_{label}_1.exr", out / f"{name}_{label}_2.exr")
+    agreement = image_agreement([out / f"{name}_vdb_render_{s}.exr" for s in (1, 2)] +
+                                [out / f"{name}_{label}_{s}.exr" for s in (1, 2)])
     pixels = args.res * args.res
     return {"renderer": "Cycles " + r1["blender"] + note, "spp": args.blender_spp, "seconds": seconds, "wall_seconds": wall,
             "paths_per_second": pixels * args.blender_spp / seconds, "relative_noise": noise, "mean": mean,
-            "time_to_eps": seconds * (noise / args.eps) ** 2}
+            "time_to_eps": seconds * (noise / args.eps) ** 2, "agreement": agreement}
+
+
+def image_agreement(exrs):
+    """Per-pixel agreement of vdb_render's two renders with Cycles' two (scripts/image_agreement.py)."""
+    script = pathlib.Path(__file__).with_name("image_agreement.py")
+    lines = run(["blender", "-b", "-noaudio", "--factory-startup", "--python-exit-code", "1", "-P", str(script),
+                 "--"] + [str(pathlib.Path(p).resolve()) for p in exrs]).stdout.splitlines()
+    return json.loads(next(line for line in lines if line.startswith("{")))
 
 
 def main():
@@ -156,10 +166,10 @@ def main():
         rows = [bench_vdb_render(bin_dir, out, name, vdb, view, flags, "vdb_render", args)]
         if blender:
             print(f"bench: {name}: Cycles", file=sys.stderr)
-            rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args))
-            if name == "twill":  # the one medium whose albedo varies: also give Cycles vdb_render's albedo
-                rows.append(bench_cycles(bin_dir, out, name, cycles_medium(vdb, out, name), rows[0]["camera"], args,
-                                         "cycles_weighted", ", density-weighted albedo"))
+            rows.append(bench_cycles(bin_dir, out, name, cycles_medium(vdb, out, name), rows[0]["camera"], args))
+            if name == "twill":  # Cycles' own reading of the albedo grid, for reference: a different medium
+                rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args, "cycles_plain",
+                                         ", albedo grid as given"))
         if flags and name == "twill":
             rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, [], "vdb_render_SGGX", args))
         results[name] = {"note": note, "rows": rows}
@@ -180,8 +190,12 @@ def main():
         for cycles in (row for row in rows if row["renderer"].startswith("Cycles")):
             ratio = cycles["time_to_eps"] / rows[0]["time_to_eps"]
             diff = (cycles["mean"] - rows[0]["mean"]) / rows[0]["mean"]
+            agree = cycles["agreement"]
             lines.append(f"  {cycles['renderer']} needs {ratio:.2f}x vdb_render's time to the same noise; its image "
-                         f"mean is {diff:+.2%} off vdb_render's.")
+                         f"mean is {diff:+.2%} off vdb_render's. Per pixel: sum D^2 / sum var = "
+                         f"{agree['variance_ratio']:.3f} (1 if they agree), {agree['tile']}x{agree['tile']} tiles' "
+                         f"z mean {agree['tile_z_mean']:+.2f}, rms {agree['tile_z_rms']:.2f}, "
+                         f"{agree['tile_z_over_4']} of {agree['tiles']} beyond 4.")
     text = "\n".join(lines) + "\n"
     (out / "render_report.md").write_text(text)
     (out / "render_report.json").write_text(json.dumps(results, indent=2))

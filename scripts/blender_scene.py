@@ -27,8 +27,8 @@ Unit conventions, matched to vdb_render (libvdbappear/render/*.h, docs/medium.md
   Absorption node with colour C and density D adds extinction (1 - C)*D (= sigma_a). So both nodes
   take C = albedo attribute and D = density attribute, added together:
       sigma_s = albedo*rho,  sigma_a = (1 - albedo)*rho,  sigma_t = sigma_s + sigma_a = rho.
-  With a grid "sigma_s" = rho*albedo (scripts/premultiply_albedo.py) the colour is instead
-  min(1, sigma_s / rho), interpolated separately: vdb_render's density-weighted albedo (see
+  With float grids sigma_s_r, _g, _b = rho*albedo (scripts/premultiply_albedo.py) the colour is
+  instead sigma_s / rho, interpolated separately: vdb_render's density-weighted albedo (see
   density_weighted_albedo).
   No Principled Volume: its "Density Attribute" (default "density") multiplies the Density input,
   and its absorption term is (1 - C)(1 - sqrt(AbsorptionColor))*D; explicit nodes avoid both traps.
@@ -280,27 +280,29 @@ def attribute(nt, name):
     return node
 
 
-def density_weighted_albedo(nt, density, sigma_s):
-    """trilinear(rho * albedo) / trilinear(rho): the albedo vdb_render's trilinear lookup sees, from the
-    separately interpolated grids "sigma_s" and "density" (Cycles' vector divide gives 0 where rho = 0),
-    used as a colour with density rho. Clamped to 1: in Cycles 3.4 the ratio exceeds 1 in places, so its
-    vector and float grids are not sampled at exactly the same points; unclamped, the coloured twill renders
-    with fireflies (pixels up to 50 where vdb_render's reach 0.6) and a 10% brighter mean."""
+SIGMA_S_GRIDS = ("sigma_s_r", "sigma_s_g", "sigma_s_b")
+
+
+def density_weighted_albedo(nt, density):
+    """trilinear(rho * albedo) / trilinear(rho) per channel: the albedo vdb_render's trilinear lookup sees,
+    from the separately interpolated float grids sigma_s_r, _g, _b and "density" (Cycles' vector divide
+    gives 0 where rho = 0), used as a colour with density rho. Float grids, not one Vec3 grid: Cycles 3.4
+    does not sample a Vec3 grid at the same points as a float grid (a Vec3 grid holding rho*(1,1,1)
+    divided by "density" renders a white furnace at 1.14 with fireflies; float grids give 1)."""
+    combine = nt.nodes.new("ShaderNodeCombineXYZ")
+    for axis, name in zip("XYZ", SIGMA_S_GRIDS):
+        nt.links.new(attribute(nt, name).outputs["Fac"], combine.inputs[axis])
     divide = nt.nodes.new("ShaderNodeVectorMath")
     divide.operation = "DIVIDE"
-    nt.links.new(sigma_s.outputs["Color"], divide.inputs[0])
+    nt.links.new(combine.outputs["Vector"], divide.inputs[0])
     nt.links.new(density.outputs["Color"], divide.inputs[1])  # Color of a float grid: (v, v, v)
-    clamp = nt.nodes.new("ShaderNodeVectorMath")
-    clamp.operation = "MINIMUM"
-    nt.links.new(divide.outputs["Vector"], clamp.inputs[0])
-    clamp.inputs[1].default_value = (1.0, 1.0, 1.0)
-    return clamp.outputs["Vector"]
+    return divide.outputs["Vector"]
 
 
 def medium_material(grids, hg_g):
     """Volume Scatter (colour albedo, density rho, anisotropy g) + Volume Absorption (colour albedo,
     density rho): sigma_s = albedo*rho, sigma_a = (1-albedo)*rho, sigma_t = rho (see module doc).
-    With a premultiplied grid "sigma_s" (scripts/premultiply_albedo.py) the albedo is
+    With premultiplied grids sigma_s_r, _g, _b (scripts/premultiply_albedo.py) the albedo is
     density_weighted_albedo, so that sigma_s = trilinear(rho*albedo) as in vdb_render."""
     mat = bpy.data.materials.new("medium")
     mat.use_nodes = True
@@ -317,8 +319,8 @@ def medium_material(grids, hg_g):
     else:
         scatter.inputs["Anisotropy"].default_value = hg_g
 
-    if "sigma_s" in grids:
-        albedo = density_weighted_albedo(nt, density, attribute(nt, "sigma_s"))
+    if all(name in grids for name in SIGMA_S_GRIDS):
+        albedo = density_weighted_albedo(nt, density)
         note("albedo = sigma_s / density (density-weighted, as vdb_render's trilinear lookup)")
     elif "albedo" in grids:
         albedo = attribute(nt, "albedo").outputs["Color"]

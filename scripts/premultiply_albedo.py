@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Copy a medium and add the scattering coefficient sigma_s = density * albedo as a Vec3SGrid
-"sigma_s", for renderers that interpolate each grid on its own (Blender Cycles).
+"""Copy a medium and add the scattering coefficient sigma_s = density * albedo as three FloatGrids
+"sigma_s_r", "sigma_s_g", "sigma_s_b", for renderers that interpolate each grid on its own (Blender
+Cycles).
 
 Why: vdb_render's trilinear lookup weights albedo by density (sigma_s = trilinear(rho * albedo),
 docs/rendering.md). A renderer that interpolates "albedo" and "density" separately and multiplies
@@ -33,15 +34,14 @@ def main():
     if "density" not in by_name:
         fail(f"{src}: no grid named 'density'")
     density = by_name["density"]
-    if "albedo" not in by_name:  # albedo 1: sigma_s = density, and Cycles needs no extra grid
-        vdb.write(dst, grids=grids, metadata=metadata)
-        return
-    albedo = by_name["albedo"]
+    albedo = by_name.get("albedo")  # none: albedo 1
     (x0, y0, z0), (x1, y1, z1) = density.evalActiveVoxelBoundingBox()
     shape = (x1 - x0 + 1, y1 - y0 + 1, z1 - z0 + 1)
     rho = np.zeros(shape, dtype=np.float32)
     density.copyToArray(rho, ijk=(x0, y0, z0))
-    if isinstance(albedo, vdb.FloatGrid):
+    if albedo is None:
+        a = np.ones(shape + (3,), dtype=np.float32)
+    elif isinstance(albedo, vdb.FloatGrid):
         a = np.zeros(shape, dtype=np.float32)
         albedo.copyToArray(a, ijk=(x0, y0, z0))
         a = np.repeat(a[..., None], 3, axis=-1)
@@ -49,11 +49,15 @@ def main():
         a = np.zeros(shape + (3,), dtype=np.float32)
         albedo.copyToArray(a, ijk=(x0, y0, z0))
     # copyToArray fills inactive voxels with the background: density 0 there, so sigma_s is 0 too.
-    sigma_s = vdb.Vec3SGrid(background=(0.0, 0.0, 0.0))
-    sigma_s.copyFromArray(rho[..., None] * a, ijk=(x0, y0, z0), tolerance=(0.0, 0.0, 0.0))
-    sigma_s.name = "sigma_s"
-    sigma_s.transform = density.transform
-    vdb.write(dst, grids=grids + [sigma_s], metadata=metadata)
+    # One float grid per channel: Cycles 3.4 samples Vec3 grids at other points than float grids.
+    channels = []
+    for c, name in enumerate(("sigma_s_r", "sigma_s_g", "sigma_s_b")):
+        sigma_s = vdb.FloatGrid(background=0.0)
+        sigma_s.copyFromArray(np.ascontiguousarray(rho * a[..., c]), ijk=(x0, y0, z0), tolerance=0.0)
+        sigma_s.name = name
+        sigma_s.transform = density.transform
+        channels.append(sigma_s)
+    vdb.write(dst, grids=grids + channels, metadata=metadata)
 
 
 if __name__ == "__main__":
