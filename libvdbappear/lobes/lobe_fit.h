@@ -1,0 +1,49 @@
+#pragma once
+// Multi-lobe SGGX fit of one downsampled voxel (§5 of the downsampling paper): the children's S
+// (the input voxels with density > 0) are clustered by K-means as 9-D vectors, and each cluster
+// becomes one lobe with the mean S of its members (Eq. 10) and the fraction |V(i,j)| / |V(i)| of the
+// children it holds (the factor of Eq. 11). The number of lobes follows §8.1: start at m = 1 and add
+// a lobe while the fit error with m + 1 lobes is at most half the error with m lobes, up to a cap.
+// Light header: Eigen only.
+
+#include "libvdbappear/math/vector.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace vdbappear {
+
+struct LobeFitOptions {
+  int max_lobes = 3;      // the cap on m (§8.1: 3)
+  int forced_lobes = 0;   // > 0: exactly this m (fewer where the children hold fewer distinct S)
+  double keep_ratio = 0.5;  // add lobe m+1 while error(m+1) <= keep_ratio * error(m) (§8.1: 50%)
+};
+
+struct SggxLobe {
+  Mat3 S;                // Eq. (10): the mean S of the lobe's children
+  double fraction = 0;   // |V(i,j)| / |V(i)|
+};
+
+struct LobeFit {
+  std::vector<SggxLobe> lobes;  // ordered by decreasing fraction (ties: K-means order)
+  // error_by_lobes[m - 1]: the fit error with m lobes, for every m tried (lobeFitError).
+  std::vector<double> error_by_lobes;
+};
+
+// The L2 distance over the sphere between the lobes' mixture sum_j fraction_j D(S_j) and the mean
+// of the children's D: sqrt(integral (mixture - mean)^2 dm). Quadrature: a spherical Fibonacci set
+// of kLobeErrorPoints points on the upper hemisphere with equal weights 2 pi / N (D(m) = D(-m), so
+// the full sphere is twice the hemisphere).
+inline constexpr int kLobeErrorPoints = 2048;
+double lobeFitError(const std::vector<SggxLobe>& lobes, const std::vector<Mat3>& children);
+
+// K-means with m clusters on the children's S as 9-D vectors (Frobenius distance), seeded by
+// k-means++ from `seed` (deterministic), then Lloyd iterations until no child changes cluster.
+// Children with equal S are one point with a count. Returns at most m lobes (fewer when the
+// children hold fewer distinct S).
+std::vector<SggxLobe> clusterLobes(const std::vector<Mat3>& children, int m, std::uint64_t seed);
+
+// The fit of §5 with the lobe count of §8.1 (or options.forced_lobes). children must not be empty.
+LobeFit fitLobes(const std::vector<Mat3>& children, const LobeFitOptions& options, std::uint64_t seed);
+
+}  // namespace vdbappear
