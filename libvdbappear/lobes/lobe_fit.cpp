@@ -129,7 +129,7 @@ std::vector<SggxLobe> clusterPoints(const WeightedPoints& points, int m, std::ui
       changed |= c != cluster[k];
       cluster[k] = c;
     }
-    if (!changed && iteration > 0) break;
+    if (!changed) break;  // (iteration 0 always changes: clusters start at -1)
     std::vector<Mat3> sum(centres.size(), Mat3::Zero());
     std::vector<double> count(centres.size(), 0.0);
     for (std::size_t k = 0; k < points.S.size(); ++k) {
@@ -139,18 +139,14 @@ std::vector<SggxLobe> clusterPoints(const WeightedPoints& points, int m, std::ui
     for (std::size_t c = 0; c < centres.size(); ++c)
       if (count[c] > 0) centres[c] = sum[c] / count[c];
   }
-  // Eq. (10): each non-empty cluster's mean S, with its share of the children.
+  // Eq. (10): each non-empty cluster's mean S, with its share of the children. The centres are
+  // those means: every iteration recomputes them from the assignment it made, and the last
+  // assignment changed nothing (or was the 100th).
+  std::vector<double> count(centres.size(), 0.0);
+  for (std::size_t k = 0; k < points.S.size(); ++k) count[cluster[k]] += points.count[k];
   std::vector<SggxLobe> lobes;
-  for (std::size_t c = 0; c < centres.size(); ++c) {
-    Mat3 sum = Mat3::Zero();
-    double count = 0;
-    for (std::size_t k = 0; k < points.S.size(); ++k)
-      if (cluster[k] == int(c)) {
-        sum += points.count[k] * points.S[k];
-        count += points.count[k];
-      }
-    if (count > 0) lobes.push_back({sum / count, count / points.total});
-  }
+  for (std::size_t c = 0; c < centres.size(); ++c)
+    if (count[c] > 0) lobes.push_back({centres[c], count[c] / points.total});
   std::stable_sort(lobes.begin(), lobes.end(), [](const SggxLobe& a, const SggxLobe& b) { return a.fraction > b.fraction; });
   return lobes;
 }
