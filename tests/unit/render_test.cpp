@@ -77,6 +77,20 @@ struct Render {
   double mean = 0, error = 0;  // image mean and its standard error
 };
 
+// The image mean and its standard error.
+Render summarize(RenderResult result) {
+  Render r;
+  r.result = std::move(result);
+  const double n = double(r.result.mean.size());
+  double variance = 0;
+  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
+    r.mean += r.result.mean[i] / n;
+    variance += r.result.variance[i] / (n * n);
+  }
+  r.error = std::sqrt(variance);
+  return r;
+}
+
 Render render(const MediumPtr& medium, const json& lights, const RenderSettings& settings, Interpolation interp,
               const std::string& view = "+z", std::optional<GroundDescription> ground = std::nullopt) {
   SceneDescription description;
@@ -90,16 +104,18 @@ Render render(const MediumPtr& medium, const json& lights, const RenderSettings&
     throw std::runtime_error("no images in tests");
   });
   const PinholeCamera camera(cameraOf(description, view_of.get()), settings.width, settings.height);
-  Render r;
-  r.result = renderImage(scene, camera, settings);
-  const double n = double(r.result.mean.size());
-  double variance = 0;
-  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
-    r.mean += r.result.mean[i] / n;
-    variance += r.result.variance[i] / (n * n);
-  }
-  r.error = std::sqrt(variance);
-  return r;
+  return summarize(renderImage(scene, camera, settings));
+}
+
+// A narrow camera far above the medium's centre: every ray within 0.02 degrees of -z.
+Render renderStraightDown(const MediumPtr& medium, const json& lights, const RenderSettings& settings) {
+  SceneDescription description;
+  description.lights = lights;
+  const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
+  const Vec3 centre = view->worldBounds().centre();
+  const RenderScene scene = buildRenderScene(description, view, {});
+  const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, settings.width, settings.height);
+  return summarize(renderImage(scene, camera, settings));
 }
 
 RenderSettings small(int size, int spp, std::uint64_t seed = 1) {
@@ -200,18 +216,8 @@ TEST(BeerLambert, AbsorbingCubeTransmitsExpMinusTau) {
       medium->sggx_diag->denseFill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(7)), vec3s(S(0, 0), S(1, 1), S(2, 2)), true);
       sigma = 0.5;
     }
-    SceneDescription d;
-    RenderSettings settings = small(4, 20000);
-    // A narrow camera far above the cube's centre: rays within 0.02 degrees of -z.
-    const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
-    const Vec3 centre = view->worldBounds().centre();
-    d.lights = json::array({{{"type", "env"}, {"radiance", 1.0}}});
-    const RenderScene scene = buildRenderScene(d, view, {});
-    const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, 4, 4);
-    const RenderResult r = renderImage(scene, camera, settings);
-    const double expected = std::exp(-2.0 * sigma * 1.0);
-    for (std::size_t i = 0; i < r.mean.size(); ++i)
-      EXPECT_NEAR(r.mean[i], expected, 5 * std::sqrt(r.variance[i])) << (anisotropic ? "anisotropic" : "isotropic");
+    const Render r = renderStraightDown(medium, json::array({{{"type", "env"}, {"radiance", 1.0}}}), small(4, 20000));
+    expectImage(r, std::exp(-2.0 * sigma * 1.0), anisotropic ? "anisotropic" : "isotropic");
   }
 }
 
@@ -232,27 +238,16 @@ TEST(SingleScattering, SunlitSlabMatchesClosedForm) {
     medium->albedo = test::namedGridLike<openvdb::Vec3SGrid>(*medium, grid_names::kAlbedo, openvdb::Vec3s(1.0f));
     medium->albedo->denseFill(box, openvdb::Vec3s(float(albedo)), true);
     if (g != 0) medium->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(float(g)));
-    SceneDescription d;
     const Vec3 sun(0.6, 0, -0.8);  // direction of travel, unit
-    d.lights = json::array({{{"type", "sun"}, {"direction", {sun.x(), sun.y(), sun.z()}}, {"strength", 3.0}}});
     RenderSettings settings = small(4, 20000);
     settings.path.max_depth = 1;
-    const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
-    const Vec3 centre = view->worldBounds().centre();
-    const RenderScene scene = buildRenderScene(d, view, {});
-    const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, 4, 4);
-    const RenderResult r = renderImage(scene, camera, settings);
+    const Render r = renderStraightDown(
+        medium, json::array({{{"type", "sun"}, {"direction", {sun.x(), sun.y(), sun.z()}}, {"strength", 3.0}}}),
+        settings);
     const double mu0 = 0.8, tau = rho * 8 * h, cos_theta = sun.dot(Vec3(0, 0, 1));
     const double phase = (1 - g * g) / (4 * kPi * std::pow(1 + g * g - 2 * g * cos_theta, 1.5));
-    const double expected = albedo * 3.0 * phase * mu0 / (mu0 + 1) * (1 - std::exp(-tau * (1 + 1 / mu0)));
-    const double n = double(r.mean.size());  // RGB values of 16 pixels
-    double mean = 0, variance = 0;
-    for (std::size_t i = 0; i < r.mean.size(); ++i) {
-      EXPECT_NEAR(r.mean[i], expected, 5 * std::sqrt(r.variance[i])) << "g " << g;
-      mean += r.mean[i] / n;
-      variance += r.variance[i] / (n * n);
-    }
-    EXPECT_NEAR(mean, expected, 4 * std::sqrt(variance)) << "g " << g;
+    expectImage(r, albedo * 3.0 * phase * mu0 / (mu0 + 1) * (1 - std::exp(-tau * (1 + 1 / mu0))),
+                "g " + std::to_string(g));
   }
 }
 
