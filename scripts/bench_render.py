@@ -45,26 +45,23 @@ def run(cmd, **kw):
     return subprocess.run(cmd, check=True, text=True, capture_output=True, **kw)
 
 
-def ensure_blender():
-    if shutil.which("blender"):
-        return True
-    print("bench: installing Debian's blender (benchmark only)", file=sys.stderr)
+def apt_install(packages):
+    print(f"bench: installing Debian's {' '.join(packages)} (benchmark only)", file=sys.stderr)
     sudo = [] if os.geteuid() == 0 else ["sudo"]
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "blender"], check=True, env=env)
+    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends"] + packages, check=True, env=env)
+
+
+def ensure_blender():
+    if not shutil.which("blender"):
+        apt_install(["blender"])
     return shutil.which("blender") is not None
 
 
 def ensure_pyopenvdb():
     """Debian's python3-openvdb, for scripts/premultiply_albedo.py (benchmark only)."""
-    probe = subprocess.run(["/usr/bin/python3", "-c", "import pyopenvdb, numpy"], capture_output=True)
-    if probe.returncode == 0:
-        return True
-    print("bench: installing Debian's python3-openvdb (benchmark only)", file=sys.stderr)
-    sudo = [] if os.geteuid() == 0 else ["sudo"]
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends", "python3-openvdb",
-                           "python3-numpy"], check=True, env=env)
+    if subprocess.run(["/usr/bin/python3", "-c", "import pyopenvdb, numpy"], capture_output=True).returncode != 0:
+        apt_install(["python3-openvdb", "python3-numpy"])
     return True
 
 
