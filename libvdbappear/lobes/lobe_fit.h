@@ -28,13 +28,13 @@ struct LobeFit {
   std::vector<SggxLobe> lobes;  // ordered by decreasing fraction (ties: K-means order)
   // error_by_lobes[m - 1]: the fit error with m lobes, for every m tried (lobeFitError).
   std::vector<double> error_by_lobes;
+  // The L2 norm over the sphere of the children's mean D, the scale of the errors.
+  double target_norm = 0;
 };
 
 // The L2 distance over the sphere between the lobes' mixture sum_j fraction_j D(S_j) and the mean
-// of the children's D: sqrt(integral (mixture - mean)^2 dm). Quadrature: a spherical Fibonacci set
-// of kLobeErrorPoints points on the upper hemisphere with equal weights 2 pi / N (D(m) = D(-m), so
-// the full sphere is twice the hemisphere).
-inline constexpr int kLobeErrorPoints = 2048;
+// of the children's D: sqrt(integral (mixture - mean)^2 dm), over the quadrature of
+// lobes/ndf_quadrature.h.
 double lobeFitError(const std::vector<SggxLobe>& lobes, const std::vector<Mat3>& children);
 
 // K-means with m clusters on the children's S as 9-D vectors (Frobenius distance), seeded by

@@ -1,5 +1,5 @@
 #pragma once
-// Warps from [0,1)^2 to directions, and the multiple-importance-sampling heuristic
+// Warps from [0,1)^2 to directions (and normal numbers), and the multiple-importance-sampling heuristic
 // (pbrt-v4, Ch. 2 and A.5). Each warp sits next to its pdf.
 
 #include "libvdbappear/math/constants.h"
@@ -48,6 +48,12 @@ inline Point2 sampleUniformTriangle(const Point2& u) {
     b0 = u.x() - b1;
   }
   return {b0, b1};
+}
+
+// Two independent standard normal numbers (Box-Muller). u in [0,1)^2.
+inline Point2 sampleStandardNormalPair(const Point2& u) {
+  const double r = std::sqrt(-2 * std::log(1 - u.x())), phi = 2 * kPi * u.y();
+  return {r * std::cos(phi), r * std::sin(phi)};
 }
 
 // Veach's power heuristic with beta = 2, for one sample of each strategy.

@@ -1,5 +1,6 @@
 // Multi-lobe SGGX fits of one downsampled voxel (§5, §8.1 of the downsampling paper).
 #include "libvdbappear/lobes/lobe_fit.h"
+#include "libvdbappear/lobes/ndf_quadrature.h"
 #include "libvdbappear/math/random_spd.h"
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/math/sggx.h"
@@ -133,12 +134,12 @@ TEST(LobeFit, ErrorIsADistanceOverTheSphere) {
   EXPECT_NEAR(lobeFitError({{a, 0.25}, {b, 0.75}}, {a, b, b, b}), 0.0, 1e-12);
 }
 
-// kLobeErrorPoints is enough for the narrowest lobes the procedural media hold (fibres of roughness
+// kNdfQuadraturePoints is enough for the narrowest lobes the procedural media hold (fibres of roughness
 // 0.1, ridges about 0.1 rad wide): the error matches a 100x finer quadrature within 2%.
 TEST(LobeFit, ErrorQuadratureResolvesRoughness01Fibres) {
   const Mat3 x = Sggx::fiberMatrix(Vec3(1, 0, 0), 0.1), y = Sggx::fiberMatrix(Vec3(0.3, 1, 0.2), 0.1);
   const Sggx fx(x), fy(y);
-  const int n = 100 * kLobeErrorPoints;
+  const int n = 100 * kNdfQuadraturePoints;
   const double golden_angle = 3.14159265358979323846 * (3 - std::sqrt(5.0));
   double sum = 0;
   for (int k = 0; k < n; ++k) {  // a finer spherical Fibonacci set, whole sphere
