@@ -336,6 +336,7 @@ int main(int argc, char** argv) {
                  "voxels along the largest side (default 128; cube, sphere, slab 64; exemplars: per block, 64)")
       ->check(CLI::Range(4, 4096));
   app.add_option("--seed", flags.seed, "random seed: same seed, same medium (shapes: the phase of --variation)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("-v,--verbose", flags.verbose, "print voxel counts and timings to stderr");
   FlagRegistry registry(app);

@@ -126,7 +126,8 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--res", f.res, "image size WxH, or N for NxN (default 256x256)");
   app.add_option("--spp", f.spp, "samples per pixel (default 16; with --time: the most to take)");
   app.add_option("--time", f.time, "render for this many seconds (passes of samples)")->check(CLI::PositiveNumber);
-  app.add_option("--seed", f.seed, "random seed: same seed, same image, whatever the thread count");
+  app.add_option("--seed", f.seed, "random seed: same seed, same image, whatever the thread count")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--max-depth", f.max_depth, "most scattering events per path (-1: unlimited, default)")
       ->check(CLI::Range(-1, 1 << 20));
   app.add_option("--camera-pos", f.camera_pos, "camera position X,Y,Z")->delimiter(',')->expected(3);

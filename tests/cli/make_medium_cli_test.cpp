@@ -93,6 +93,7 @@ TEST(MakeMediumCli, RefusesBadKindsFlagsAndEmptyMediaWithoutOutput) {
       {"twill --pattern satin --harness 6", "no regular satin with 6 harnesses"},
       {"cube --albedo 1.5", "1.5"},
       {"cube --res 2", "--res"},
+      {"cube --seed -1", "--seed"},
   };
   for (const Case& c : cases) {
     const auto r = runCommand(kMakeMedium + " " + c.args + " -o " + quote(out));

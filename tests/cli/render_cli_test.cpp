@@ -132,6 +132,7 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"missing mesh", kCube + " --mesh " + quote(dir.path("none.obj")), "none.obj: no such mesh file"},
       {"missing env map", kCube + " --env-map " + quote(dir.path("none.exr")), "none.exr: no such image file"},
       {"zero spp", kCube + " --spp 0", "--spp must be >= 1"},
+      {"negative seed", kCube + " --seed -1", "--seed"},
       {"unknown flag", kCube + " --bogus", "bogus"},
   };
   for (const BadInput& c : cases) {
