@@ -4,6 +4,7 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/lobes/lobe_order.h"
 #include "libvdbappear/math/sggx.h"
+#include "libvdbappear/util/error.h"
 #include "libvdbappear/util/hash_random.h"
 #include "libvdbappear/util/progress.h"
 
@@ -290,6 +291,16 @@ void checkOptions(const MultiLobeOptions& options) {
   if (!(options.clustering.jitter >= 0)) throw std::invalid_argument("negative or NaN cluster jitter");
 }
 
+// A medium that already has lobes or clusters is a result of this function, not an input to it.
+void checkFullResolution(const Medium& fine) {
+  for (const auto& grid : fine.other_grids) {
+    const std::string name = grid->getName();
+    if (isLobeGridName(name) || name == grid_names::kCluster)
+      throw MediumError(fmt::format("{}: grid '{}': the medium is already multi-lobe; fit lobes to the "
+                                    "full-resolution medium instead", fine.source, name));
+  }
+}
+
 }  // namespace
 
 double LobeFitStatistics::relativeError(int m) const {
@@ -306,6 +317,7 @@ int LobeFitStatistics::ruleLobeCount(double keep_ratio) const {
 
 MultiLobeResult downsampleMultiLobe(const Medium& fine, const MultiLobeOptions& options, ProgressBar* progress) {
   checkOptions(options);
+  checkFullResolution(fine);
   DownsampleResult naive = downsampleNaive(fine, {options.factor, SggxWeighting::Count});
   MultiLobeResult result;
   result.medium = naive.medium;
