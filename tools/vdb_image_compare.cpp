@@ -16,8 +16,10 @@ constexpr const char* kTool = "vdb_image_compare";
 constexpr const char* kExamples = R"(Examples:
   vdb_image_compare full.exr naive4x.exr --error-map error.png --report -
   vdb_image_compare ref.exr test.exr --side-by-side compare.png --range 0.25
+  vdb_image_compare full.exr lobes4x.exr --foreground --tile 8 --report -
 The error map is the signed relative error per pixel: red where TEST is brighter than REFERENCE,
-blue where darker, saturated at --range (default 0.5 = 50%).)";
+blue where darker, saturated at --range (default 0.5 = 50%). --tile N compares the means of N x N
+pixel tiles (the numbers and the maps): the look at that scale, with less noise.)";
 
 }  // namespace
 
@@ -28,17 +30,20 @@ int main(int argc, char** argv) {
   std::string reference, test, error_map, side_by_side, report;
   double range = 0.5;
   bool foreground = false;
+  int tile = 1;
   app.add_option("REFERENCE", reference, "reference image")->required();
   app.add_option("TEST", test, "image to compare")->required();
   app.add_option("--error-map", error_map, "write the false-colour relative error map (PNG or EXR)");
   app.add_option("--side-by-side", side_by_side, "write REFERENCE | TEST | error map as one image");
   app.add_option("--range", range, "relative error at which the map saturates (default 0.5)")->check(CLI::PositiveNumber);
   app.add_flag("--foreground", foreground, "count only pixels where REFERENCE's alpha channel A > 0.5 (vdb_render --aov alpha)");
+  app.add_option("--tile", tile, "compare the means of N x N pixel tiles (a foreground tile: most of its pixels are)")
+      ->check(CLI::Range(1, 4096));
   app.add_option("--report", report, "write the numbers as JSON (- for stdout; default: a line on stdout)");
 
   return tool::run(app, argc, argv, [&] {
     const ImageChannels channels = readImageChannels(reference);  // once: RGB, and alpha for --foreground
-    const RgbImage a = rgbOf(channels), b = readRgbImage(test);
+    const RgbImage a = tileMeans(rgbOf(channels), tile), b = tileMeans(readRgbImage(test), tile);
     std::vector<bool> mask;
     if (foreground) {
       const int alpha = channels.find("A");
@@ -46,11 +51,12 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)
         mask.push_back(channels.values[i * channels.names.size() + alpha] > 0.5f);
     }
+    mask = tileMask(mask, channels.width, channels.height, tile);
     const ImageComparison c = compareImages(a, b, mask);
     const RgbImage map = relativeErrorMap(a, b, range);
     if (!error_map.empty()) writeImage(map, error_map);
     if (!side_by_side.empty()) writeImage(sideBySide({&a, &b, &map}), side_by_side);
-    const nlohmann::json json = {{"reference", reference}, {"test", test}, {"foreground_only", foreground},
+    const nlohmann::json json = {{"reference", reference}, {"test", test}, {"foreground_only", foreground}, {"tile", tile},
                                  {"mean_reference", c.mean_reference}, {"mean_test", c.mean_test},
                                  {"mean_relative_error", c.mean_relative_error}, {"rmse", c.rmse},
                                  {"relative_rmse", c.relative_rmse}, {"max_abs_error", c.max_abs_error}};

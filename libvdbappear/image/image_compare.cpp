@@ -63,6 +63,27 @@ RgbImage relativeErrorMap(const RgbImage& reference, const RgbImage& test, doubl
   return map;
 }
 
+RgbImage tileMeans(const RgbImage& image, int tile) {
+  if (tile < 1) throw std::invalid_argument("tile size below 1");
+  RgbImage out(image.width / tile, image.height / tile);
+  const float scale = 1.0f / float(tile * tile);
+  for (int y = 0; y < out.height * tile; ++y)
+    for (int x = 0; x < out.width * tile; ++x)
+      for (int c = 0; c < 3; ++c) out.at(x / tile, y / tile)[c] += scale * image.at(x, y)[c];
+  return out;
+}
+
+std::vector<bool> tileMask(const std::vector<bool>& mask, int width, int height, int tile) {
+  if (mask.empty()) return {};
+  const int w = width / tile, h = height / tile;
+  std::vector<int> count(std::size_t(w) * h, 0);
+  for (int y = 0; y < h * tile; ++y)
+    for (int x = 0; x < w * tile; ++x) count[std::size_t(y / tile) * w + x / tile] += mask[std::size_t(y) * width + x];
+  std::vector<bool> out(count.size());
+  for (std::size_t i = 0; i < count.size(); ++i) out[i] = 2 * count[i] > tile * tile;
+  return out;
+}
+
 RgbImage sideBySide(const std::vector<const RgbImage*>& images, int gap) {
   int width = 0;
   for (const RgbImage* image : images) {

@@ -25,6 +25,12 @@ ImageComparison compareImages(const RgbImage& reference, const RgbImage& test, c
 // brighter by `range` or more. Stored linear, so that the sRGB file shows those colours.
 RgbImage relativeErrorMap(const RgbImage& reference, const RgbImage& test, double range);
 
+// The image averaged over tile x tile blocks (a remainder at the right and bottom edges is
+// dropped), and a mask of the tiles whose pixels are mostly (> half) in `mask`. Comparing tile
+// means measures the appearance at the scale of a tile, with less Monte Carlo noise per value.
+RgbImage tileMeans(const RgbImage& image, int tile);
+std::vector<bool> tileMask(const std::vector<bool>& mask, int width, int height, int tile);
+
 // Images of equal height placed left to right with a gap of `gap` black pixels.
 RgbImage sideBySide(const std::vector<const RgbImage*>& images, int gap = 4);
 
