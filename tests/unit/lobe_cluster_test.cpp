@@ -183,6 +183,7 @@ void expectInvariants(const Medium& fine, const MultiLobeResult& result, int fac
       const bool on = slot.fraction.probeValue(ijk, fraction);
       ASSERT_EQ(on, slot.weight.isValueOn(ijk)) << ijk;
       ASSERT_EQ(on, slot.diag.isValueOn(ijk)) << ijk;
+      ASSERT_EQ(on, slot.offdiag.isValueOn(ijk)) << ijk;
       if (!on) continue;
       ++lobes;
       const Vec3 d = toVec3(slot.diag.getValue(ijk)), o = toVec3(slot.offdiag.getValue(ijk));
