@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render clean
+.PHONY: all deps configure build test demo bench bench-render lobes clean
 
 all: build
 
@@ -31,7 +31,11 @@ bench: build
 bench-render: build
 	@scripts/bench_render.py --build $(BUILD_DIR)
 
+# Multi-lobe fits: error against lobe count (twill, velvet) and renders against full resolution.
+lobes: build
+	@scripts/lobe_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out media
+	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out media
 
 include scripts/media.mk

@@ -28,6 +28,8 @@ import shutil
 import subprocess
 import sys
 
+from debian_packages import apt_install
+
 SCENE = ["--env", "0.3", "--sun", "1,0.6,-1.2,3"]
 MEDIA = {
     # name: (vdb_make_medium arguments, view, vdb_render flags for the shared scene, note)
@@ -45,23 +47,16 @@ def run(cmd, **kw):
     return subprocess.run(cmd, check=True, text=True, capture_output=True, **kw)
 
 
-def apt_install(packages):
-    print(f"bench: installing Debian's {' '.join(packages)} (benchmark only)", file=sys.stderr)
-    sudo = [] if os.geteuid() == 0 else ["sudo"]
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends"] + packages, check=True, env=env)
-
-
 def ensure_blender():
     if not shutil.which("blender"):
-        apt_install(["blender"])
+        apt_install(["blender"], "benchmark only")
     return shutil.which("blender") is not None
 
 
 def ensure_pyopenvdb():
     """Debian's python3-openvdb, for scripts/premultiply_albedo.py (benchmark only)."""
     if subprocess.run(["/usr/bin/python3", "-c", "import pyopenvdb, numpy"], capture_output=True).returncode != 0:
-        apt_install(["python3-openvdb", "python3-numpy"])
+        apt_install(["python3-openvdb", "python3-numpy"], "benchmark only")
     return True
 
 
