@@ -43,7 +43,9 @@ int main(int argc, char** argv) {
 
   return tool::run(app, argc, argv, [&] {
     const ImageChannels channels = readImageChannels(reference);  // once: RGB, and alpha for --foreground
-    const RgbImage a = tileMeans(rgbOf(channels), tile), b = tileMeans(readRgbImage(test), tile);
+    const RgbImage full_a = rgbOf(channels), full_b = readRgbImage(test);
+    checkSameSize(full_a, full_b);
+    const RgbImage a = tileMeans(full_a, tile), b = tileMeans(full_b, tile);
     std::vector<bool> mask;
     if (foreground) {
       const int alpha = channels.find("A");

@@ -12,15 +12,15 @@ double pixelMean(const RgbImage& image, std::size_t i) {
   return (double(image.pixels[3 * i]) + image.pixels[3 * i + 1] + image.pixels[3 * i + 2]) / 3;
 }
 
+double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+}  // namespace
+
 void checkSameSize(const RgbImage& a, const RgbImage& b) {
   if (a.width != b.width || a.height != b.height)
     throw std::invalid_argument("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
                                 " and " + std::to_string(b.width) + "x" + std::to_string(b.height));
 }
-
-double srgbToLinear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
-
-}  // namespace
 
 ImageComparison compareImages(const RgbImage& reference, const RgbImage& test, const std::vector<bool>& mask) {
   checkSameSize(reference, test);
@@ -65,15 +65,22 @@ RgbImage relativeErrorMap(const RgbImage& reference, const RgbImage& test, doubl
 
 RgbImage tileMeans(const RgbImage& image, int tile) {
   if (tile < 1) throw std::invalid_argument("tile size below 1");
+  if (tile > image.width || tile > image.height)
+    throw std::invalid_argument("tile size " + std::to_string(tile) + " larger than the image");
   RgbImage out(image.width / tile, image.height / tile);
-  const float scale = 1.0f / float(tile * tile);
-  for (int y = 0; y < out.height * tile; ++y)
-    for (int x = 0; x < out.width * tile; ++x)
-      for (int c = 0; c < 3; ++c) out.at(x / tile, y / tile)[c] += scale * image.at(x, y)[c];
+  std::vector<double> row(std::size_t(out.width) * 3);
+  for (int ty = 0; ty < out.height; ++ty) {
+    std::fill(row.begin(), row.end(), 0.0);
+    for (int y = ty * tile; y < (ty + 1) * tile; ++y)
+      for (int x = 0; x < out.width * tile; ++x)
+        for (int c = 0; c < 3; ++c) row[std::size_t(x / tile) * 3 + c] += image.at(x, y)[c];
+    for (std::size_t k = 0; k < row.size(); ++k) out.at(0, ty)[k] = float(row[k] / (double(tile) * tile));
+  }
   return out;
 }
 
 std::vector<bool> tileMask(const std::vector<bool>& mask, int width, int height, int tile) {
+  if (tile < 1) throw std::invalid_argument("tile size below 1");
   if (mask.empty()) return {};
   const int w = width / tile, h = height / tile;
   std::vector<int> count(std::size_t(w) * h, 0);

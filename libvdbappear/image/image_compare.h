@@ -18,6 +18,8 @@ struct ImageComparison {
 
 // Throws std::invalid_argument when the sizes differ. With a mask (one flag per pixel), only the
 // pixels it marks count: the foreground of the paper's mean pixel intensity (§6.3).
+void checkSameSize(const RgbImage& a, const RgbImage& b);  // std::invalid_argument when they differ
+
 ImageComparison compareImages(const RgbImage& reference, const RgbImage& test, const std::vector<bool>& mask = {});
 
 // Signed relative error (test - ref) / max(ref, 1% of the reference mean) per pixel (channel mean),
@@ -26,7 +28,7 @@ ImageComparison compareImages(const RgbImage& reference, const RgbImage& test, c
 RgbImage relativeErrorMap(const RgbImage& reference, const RgbImage& test, double range);
 
 // The image averaged over tile x tile blocks (a remainder at the right and bottom edges is
-// dropped), and a mask of the tiles whose pixels are mostly (> half) in `mask`. Comparing tile
+// dropped; 1 <= tile <= width and height), and a mask of the tiles whose pixels are mostly (> half) in `mask`. Comparing tile
 // means measures the appearance at the scale of a tile, with less Monte Carlo noise per value.
 RgbImage tileMeans(const RgbImage& image, int tile);
 std::vector<bool> tileMask(const std::vector<bool>& mask, int width, int height, int tile);

@@ -5,7 +5,6 @@
 #include "libvdbappear/math/random_stream.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -20,26 +19,9 @@ struct WeightedPoints {
   double total = 0;
 };
 
-std::array<double, 6> uniqueEntries(const Mat3& S) { return {S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(0, 2), S(1, 2)}; }
-
-WeightedPoints distinctPoints(const std::vector<Mat3>& children) {
-  std::vector<std::size_t> order(children.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return uniqueEntries(children[a]) < uniqueEntries(children[b]);
-  });
-  WeightedPoints points;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const Mat3& S = children[order[k]];
-    if (k > 0 && uniqueEntries(S) == uniqueEntries(points.S.back())) {
-      points.count.back() += 1;
-    } else {
-      points.S.push_back(S);
-      points.count.push_back(1);
-    }
-  }
-  points.total = double(children.size());
-  return points;
+WeightedPoints distinctChildren(const std::vector<Mat3>& children) {
+  DistinctPoints<Mat3> distinct = distinctPoints(children);
+  return {std::move(distinct.point), std::move(distinct.count), double(children.size())};
 }
 
 // The mean of the children's D at the quadrature points.
@@ -77,28 +59,28 @@ std::vector<SggxLobe> clusterPoints(const WeightedPoints& points, int m, std::ui
 
 double lobeFitError(const std::vector<SggxLobe>& lobes, const std::vector<Mat3>& children) {
   if (children.empty()) throw std::invalid_argument("lobeFitError: no children");
-  return mixtureError(lobes, meanNdf(distinctPoints(children)));
+  return mixtureError(lobes, meanNdf(distinctChildren(children)));
 }
 
 std::vector<SggxLobe> clusterLobes(const std::vector<Mat3>& children, int m, std::uint64_t seed) {
   if (children.empty() || m < 1) throw std::invalid_argument("clusterLobes: no children or m < 1");
-  return clusterPoints(distinctPoints(children), m, seed);
+  return clusterPoints(distinctChildren(children), m, seed);
 }
 
 LobeFit fitLobes(const std::vector<Mat3>& children, const LobeFitOptions& options, std::uint64_t seed) {
   if (children.empty()) throw std::invalid_argument("fitLobes: no children");
-  const WeightedPoints points = distinctPoints(children);
+  const WeightedPoints points = distinctChildren(children);
   const NdfSamples mean = meanNdf(points);
   const int most = options.forced_lobes > 0 ? options.forced_lobes : std::max(1, options.max_lobes);
-  // Every m up to the cap (for the error report), stopping early once the children run out of
-  // distinct S.
+  // Every m up to the cap (for the error report), stopping early once every distinct S is a lobe
+  // of its own (an exact fit: more lobes cannot help).
   std::vector<std::vector<SggxLobe>> fits;
   LobeFit fit;
   fit.target_norm = std::sqrt(sphereL2DistanceSquared(mean, NdfSamples(mean.size(), 0.0)));
   for (int m = 1; m <= most; ++m) {
     fits.push_back(clusterPoints(points, m, seed));
     fit.error_by_lobes.push_back(mixtureError(fits.back(), mean));
-    if (int(fits.back().size()) < m) break;
+    if (fits.back().size() == points.S.size()) break;
   }
   std::size_t chosen = fits.size() - 1;  // forced: the largest m fitted
   if (options.forced_lobes <= 0) {       // §8.1: add a lobe while it at least halves the error

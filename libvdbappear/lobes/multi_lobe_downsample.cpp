@@ -190,11 +190,16 @@ LobeFitStatistics fitLobesOfEveryVoxel(const Medium& fine, const CoarseLeaves& c
   return total;
 }
 
-Vec3s albedoAt(const Medium& coarse, const FloatLeaf& leaf, Index n) {
-  if (!coarse.albedo) return defaults::kAlbedo;
-  const Vec3sLeaf* albedo = coarse.albedo->tree().probeConstLeaf(leaf.origin());
-  return albedo ? albedo->getValue(n) : coarse.albedo->tree().getValue(leaf.offsetToGlobalCoord(n));
-}
+// The coarse albedo of one leaf's voxels (the contract's default where the medium has none).
+class LeafAlbedo {
+ public:
+  LeafAlbedo(const Medium& coarse, const FloatLeaf& leaf)
+      : leaf_(coarse.albedo ? coarse.albedo->tree().probeConstLeaf(leaf.origin()) : nullptr) {}
+  Vec3s operator[](Index n) const { return leaf_ ? leaf_->getValue(n) : defaults::kAlbedo; }
+
+ private:
+  const Vec3sLeaf* leaf_;  // downsampleNaive writes an albedo leaf wherever a density leaf is
+};
 
 // §6.2: K-means on the downsampled albedos; writes the cluster grid.
 VoxelClustering clusterByAlbedo(const Medium& coarse, const CoarseLeaves& coarse_leaves,
@@ -203,8 +208,9 @@ VoxelClustering clusterByAlbedo(const Medium& coarse, const CoarseLeaves& coarse
   std::vector<std::uint64_t> key;
   for (std::size_t i = 0; i < coarse_leaves.leafCount(); ++i) {
     const FloatLeaf& leaf = coarse_leaves.leaf(i);
+    const LeafAlbedo leaf_albedo(coarse, leaf);
     for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      albedo.push_back(toVec3(albedoAt(coarse, leaf, voxel.pos())));
+      albedo.push_back(toVec3(leaf_albedo[voxel.pos()]));
       key.push_back(voxelKey(0, voxel.getCoord()));
     }
   }
@@ -218,28 +224,29 @@ VoxelClustering clusterByAlbedo(const Medium& coarse, const CoarseLeaves& coarse
   return clustering;
 }
 
-// Eq. (13)'s reference voxel of each cluster: one with the most lobes, so that every voxel's
-// lobes find slots; among those the densest (the best-sampled fit); then the first in tree order.
-std::vector<VoxelCluster> pickReferences(const CoarseLeaves& coarse_leaves,
-                                         const VoxelClustering& clustering, const openvdb::Int32Grid& cluster_grid,
-                                         const std::vector<LobeSlotGrids>& slots) {
+// Eq. (13)'s reference voxel of each cluster (the paper's "arbitrary voxel"): one with the most
+// lobes, so that every voxel's lobes find slots; among those the densest (the most mass, so the
+// largest share of the cluster's look); then the first in tree order.
+std::vector<VoxelCluster> pickReferences(const CoarseLeaves& coarse_leaves, const VoxelClustering& clustering,
+                                         const openvdb::Int32Grid& cluster_grid, const std::vector<LobeSlotGrids>& slots) {
   std::vector<VoxelCluster> clusters(clustering.centres.size());
-  std::vector<float> best_density(clusters.size(), -1.0f);
+  std::vector<float> reference_density(clusters.size(), -1.0f);
   for (std::size_t c = 0; c < clusters.size(); ++c) clusters[c].albedo = clustering.centres[c];
   for (std::size_t i = 0; i < coarse_leaves.leafCount(); ++i) {
     const FloatLeaf& leaf = coarse_leaves.leaf(i);
-    const std::vector<SlotLeaves> lobes = slotLeaves(slots, leaf.origin());
+    const std::vector<SlotLeaves> slot_leaves = slotLeaves(slots, leaf.origin());
     const auto* ids = cluster_grid.tree().probeConstLeaf(leaf.origin());
     for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      VoxelCluster& cluster = clusters[ids->getValue(voxel.pos())];
+      const int c = ids->getValue(voxel.pos());
+      VoxelCluster& cluster = clusters[c];
       cluster.voxels += 1;
-      const int count = lobesIn(readSlots(lobes, voxel.pos()));
-      const std::size_t c = std::size_t(ids->getValue(voxel.pos()));
-      if (count > cluster.reference_lobes || (count == cluster.reference_lobes && *voxel > best_density[c])) {
+      int lobes = 0;
+      for (const SlotLeaves& slot : slot_leaves) lobes += slot.fraction->isValueOn(voxel.pos());
+      if (lobes > cluster.reference_lobes || (lobes == cluster.reference_lobes && *voxel > reference_density[c])) {
         const Coord ijk = voxel.getCoord();
         cluster.reference = {ijk.x(), ijk.y(), ijk.z()};
-        cluster.reference_lobes = count;
-        best_density[c] = *voxel;
+        cluster.reference_lobes = lobes;
+        reference_density[c] = *voxel;
       }
     }
   }
@@ -269,6 +276,7 @@ void orderLobesAndWeigh(const Medium& coarse, const CoarseLeaves& coarse_leaves,
       const FloatLeaf& leaf = coarse_leaves.leaf(i);
       const std::vector<SlotLeaves> out = slotLeaves(slots, leaf.origin());
       const auto* ids = cluster_grid.tree().probeConstLeaf(leaf.origin());
+      const LeafAlbedo albedo(coarse, leaf);
       for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
         const Index n = voxel.pos();
         std::vector<SggxLobe> lobes = readSlots(out, n);
@@ -276,7 +284,7 @@ void orderLobesAndWeigh(const Medium& coarse, const CoarseLeaves& coarse_leaves,
         const std::vector<int> slot = matchLobeSlots(reference[ids->getValue(n)], ndfOfLobes(lobes));
         std::vector<SggxLobe> ordered(slots.size(), SggxLobe{Mat3::Identity(), 0.0});
         for (std::size_t j = 0; j < lobes.size(); ++j) ordered[slot[j]] = lobes[j];
-        writeSlots(out, n, ordered, albedoAt(coarse, leaf, n));
+        writeSlots(out, n, ordered, albedo[n]);
       }
       if (progress) progress->advance();
     }
@@ -318,6 +326,10 @@ int LobeFitStatistics::ruleLobeCount(double keep_ratio) const {
 MultiLobeResult downsampleMultiLobe(const Medium& fine, const MultiLobeOptions& options, ProgressBar* progress) {
   checkOptions(options);
   checkFullResolution(fine);
+  if (!fine.hasSggx())
+    throw MediumError(fmt::format("{}: no 'sggx_diag' or 'sggx_offdiag' grid: every voxel has the same (isotropic) "
+                                  "flakes, so there are no lobes to fit; vdb_sggx_downsample gives the naive medium",
+                                  fine.source));
   DownsampleResult naive = downsampleNaive(fine, {options.factor, SggxWeighting::Count});
   MultiLobeResult result;
   result.medium = naive.medium;
@@ -349,8 +361,11 @@ MultiLobeResult downsampleMultiLobe(const Medium& fine, const MultiLobeOptions& 
   coarse.metadata.insertMeta("lobe_count", openvdb::Int32Metadata(result.lobe_count));
   coarse.metadata.insertMeta("cluster_count", openvdb::Int32Metadata(int(result.clusters.size())));
   if (int(result.clusters.size()) < options.clustering.clusters)
-    result.warnings.push_back(fmt::format("{} clusters asked for, {} made: the voxels hold only {} distinct albedos",
-                                          options.clustering.clusters, result.clusters.size(), result.clusters.size()));
+    result.warnings.push_back(fmt::format("{} clusters asked for, {} made: {}", options.clustering.clusters,
+                                          result.clusters.size(),
+                                          clustering.distinct_albedos < std::size_t(options.clustering.clusters)
+                                              ? fmt::format("the voxels hold only {} distinct albedos", clustering.distinct_albedos)
+                                              : std::string("K-means left a cluster empty")));
   return result;
 }
 

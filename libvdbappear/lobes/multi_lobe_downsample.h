@@ -19,7 +19,7 @@ namespace vdbappear {
 class ProgressBar;
 
 struct MultiLobeOptions {
-  int factor = 4;                  // F, as for downsampleNaive
+  int factor = 2;                  // F, as for downsampleNaive
   LobeFitOptions fit;              // lobe count rule (§8.1) or forced m
   VoxelClusterOptions clustering;  // K, jitter; its seed also seeds the lobe fits (per voxel)
 };
@@ -55,7 +55,8 @@ struct MultiLobeResult {
   int lobe_count = 0;  // m: lobe grids 0..m-1 (metadata lobe_count)
 };
 
-// Throws MediumError for media that cannot be downsampled (as downsampleNaive) and
+// Throws MediumError for media that cannot be downsampled (as downsampleNaive), that have no SGGX
+// grids (nothing to fit) or that already have lobe or cluster grids, and
 // std::invalid_argument for options out of range (max or forced lobes above kMaxOrderedLobes).
 MultiLobeResult downsampleMultiLobe(const Medium& fine, const MultiLobeOptions& options,
                                    ProgressBar* progress = nullptr);

@@ -21,31 +21,6 @@ Vec3 jittered(const Vec3& albedo, std::uint64_t voxel_key, const VoxelClusterOpt
   return albedo + options.jitter * Vec3(a.x(), a.y(), b.x());
 }
 
-// The distinct values, sorted, with their counts, and the index of each input's value.
-struct DistinctAlbedos {
-  std::vector<Vec3> value;
-  std::vector<double> count;
-  std::vector<int> of_voxel;
-};
-
-DistinctAlbedos distinctAlbedos(const std::vector<Vec3>& albedo) {
-  std::vector<std::size_t> order(albedo.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(albedo[a]) < key(albedo[b]); });
-  DistinctAlbedos d;
-  d.of_voxel.resize(albedo.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const Vec3& v = albedo[order[k]];
-    if (k == 0 || key(v) != key(d.value.back())) {
-      d.value.push_back(v);
-      d.count.push_back(0);
-    }
-    d.count.back() += 1;
-    d.of_voxel[order[k]] = int(d.value.size()) - 1;
-  }
-  return d;
-}
-
 }  // namespace
 
 VoxelClustering clusterVoxels(const std::vector<Vec3>& albedo, const std::vector<std::uint64_t>& jitter_key,
@@ -54,12 +29,13 @@ VoxelClustering clusterVoxels(const std::vector<Vec3>& albedo, const std::vector
   if (jitter_key.size() != albedo.size()) throw std::invalid_argument("clusterVoxels: one jitter key per voxel");
   std::vector<Vec3> input(albedo.size());
   for (std::size_t i = 0; i < albedo.size(); ++i) input[i] = jittered(albedo[i], jitter_key[i], options);
-  const DistinctAlbedos distinct = distinctAlbedos(input);
+  const DistinctPoints<Vec3> distinct = distinctPoints(input);
 
   VoxelClustering result;
-  if (distinct.value.empty()) return result;
+  result.distinct_albedos = distinct.point.size();
+  if (distinct.point.empty()) return result;
   RandomStream rng(options.seed, {-1});
-  const KMeansResult<Vec3> clusters = kMeans(distinct.value, distinct.count, options.clusters, rng);
+  const KMeansResult<Vec3> clusters = kMeans(distinct.point, distinct.count, options.clusters, rng);
 
   // Label the clusters by increasing albedo (channel sum, then channels), whatever K-means' order.
   std::vector<int> order(clusters.centres.size());
@@ -74,7 +50,7 @@ VoxelClustering clusterVoxels(const std::vector<Vec3>& albedo, const std::vector
     result.centres.push_back(clusters.centres[order[k]]);
   }
   result.cluster.resize(albedo.size());
-  for (std::size_t i = 0; i < albedo.size(); ++i) result.cluster[i] = label[clusters.cluster[distinct.of_voxel[i]]];
+  for (std::size_t i = 0; i < albedo.size(); ++i) result.cluster[i] = label[clusters.cluster[distinct.of[i]]];
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 namespace vdbappear {
@@ -19,6 +20,37 @@ struct KMeansResult {
   std::vector<double> weight;   // each cluster's total weight
   std::vector<int> cluster;     // the cluster of each point
 };
+
+// Equal points merged into one with a count, sorted by their coefficients (so the result does not
+// depend on the order of the input); of[i] is the distinct point that input i became.
+template <class Point>
+struct DistinctPoints {
+  std::vector<Point> point;
+  std::vector<double> count;
+  std::vector<int> of;
+};
+
+template <class Point>
+DistinctPoints<Point> distinctPoints(const std::vector<Point>& points) {
+  auto less = [](const Point& a, const Point& b) {
+    return std::lexicographical_compare(a.data(), a.data() + a.size(), b.data(), b.data() + b.size());
+  };
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return less(points[a], points[b]); });
+  DistinctPoints<Point> d;
+  d.of.resize(points.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const Point& p = points[order[k]];
+    if (k == 0 || less(d.point.back(), p)) {
+      d.point.push_back(p);
+      d.count.push_back(0);
+    }
+    d.count.back() += 1;
+    d.of[order[k]] = int(d.point.size()) - 1;
+  }
+  return d;
+}
 
 namespace kmeans_detail {
 
@@ -65,12 +97,14 @@ std::vector<Point> seedCentres(const std::vector<Point>& points, const std::vect
 }  // namespace kmeans_detail
 
 // At most k clusters of the weighted points (fewer when they hold fewer distinct points; weights
-// must be > 0). Lloyd iterations run until no point changes cluster, at most max_iterations times.
+// must be > 0; k >= 1, max_iterations >= 1). Lloyd iterations run until no point changes cluster, at most max_iterations times.
 // A cluster left empty keeps its centre during the iterations and is dropped at the end.
 template <class Point>
 KMeansResult<Point> kMeans(const std::vector<Point>& points, const std::vector<double>& weights, int k,
                            RandomStream& rng, int max_iterations = 100) {
   using kmeans_detail::nearestCentre;
+  if (k < 1 || max_iterations < 1 || weights.size() != points.size())
+    throw std::invalid_argument("kMeans: k or max_iterations below 1, or one weight per point missing");
   std::vector<Point> centres = kmeans_detail::seedCentres(points, weights, k, rng);
   std::vector<int> cluster(points.size(), -1);
   std::vector<double> weight(centres.size());

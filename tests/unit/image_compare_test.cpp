@@ -40,6 +40,8 @@ TEST(ImageCompare, TileMeansAverageBlocksAndDropTheRemainder) {
   EXPECT_FLOAT_EQ(tiles.at(0, 0)[0], 5.5f);    // mean of 0, 1, 10, 11
   EXPECT_FLOAT_EQ(tiles.at(1, 1)[2], 227.5f);  // mean of 222, 223, 232, 233
   EXPECT_EQ(tileMeans(image, 1).pixels, image.pixels);
+  EXPECT_THROW(tileMeans(image, 0), std::invalid_argument);
+  EXPECT_THROW(tileMeans(image, 5), std::invalid_argument);  // taller than the image
 
   // A tile is foreground when more than half its pixels are.
   const std::vector<bool> mask{true, true, false, false, true,   // row 0

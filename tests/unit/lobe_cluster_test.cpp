@@ -7,6 +7,7 @@
 #include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/math/kmeans.h"
 #include "libvdbappear/math/sggx.h"
+#include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/error.h"
 
@@ -143,7 +144,8 @@ void expectInvariants(const Medium& fine, const MultiLobeResult& result, int fac
   const Medium& out = *result.medium;
   const MediumPtr naive = downsampleNaive(fine, {factor, SggxWeighting::Count}).medium;
   EXPECT_TRUE(test::gridsMatch(*naive->density, *out.density, 0));
-  EXPECT_TRUE(test::gridsMatch(*naive->albedo, *out.albedo, 0));
+  ASSERT_EQ(bool(naive->albedo), bool(out.albedo));
+  if (naive->albedo) EXPECT_TRUE(test::gridsMatch(*naive->albedo, *out.albedo, 0));
   EXPECT_TRUE(test::gridsMatch(*naive->sggx_diag, *out.sggx_diag, 0));
   EXPECT_TRUE(test::gridsMatch(*naive->sggx_offdiag, *out.sggx_offdiag, 0));
   const int m = result.lobe_count, K = int(result.clusters.size());
@@ -166,7 +168,8 @@ void expectInvariants(const Medium& fine, const MultiLobeResult& result, int fac
     slots.push_back({get3("diag")->getConstAccessor(), get3("offdiag")->getConstAccessor(),
                      get3("weight")->getConstAccessor(), fraction->getConstAccessor()});
   }
-  auto albedo = naive->albedo->getConstAccessor();
+  const auto no_albedo = openvdb::Vec3SGrid::create(openvdb::Vec3s(1.0f));  // the contract's default
+  auto albedo = (naive->albedo ? naive->albedo : no_albedo)->getConstAccessor();
   auto diag = naive->sggx_diag->getConstAccessor();
   auto offdiag = naive->sggx_offdiag->getConstAccessor();
   auto ids = cluster->getConstAccessor();
@@ -249,17 +252,19 @@ TEST(MultiLobeDownsample, InvariantsOnTheTwillWithForcedLobes) {
 // A hand-made medium whose voxels hold fibres along x and y in different proportions, so that the
 // fits' own order (by decreasing fraction) differs between voxels: after Eq. (13) every voxel's
 // lobe 0 has the reference's shape. Coarse voxel (c, 0, 0) holds 64 children: x_fibres[c] along x,
-// the rest along y; the reference (the densest two-lobe voxel) is voxel 1, mostly y.
+// the rest along y; the reference (the densest two-lobe voxel) is voxel 1, mostly y. Voxel 3 holds
+// x fibres only: its one lobe goes to slot 1, where the reference keeps its x fibres, and slot 0
+// stays empty there.
 TEST(MultiLobeDownsample, LobeOrderFollowsTheReferenceVoxel) {
-  const int F = 4, x_fibres[3] = {48, 16, 40};
-  const float density[3] = {1, 5, 2};
+  const int F = 4, x_fibres[4] = {48, 16, 40, 64};
+  const float density[4] = {1, 5, 2, 1};
   const MediumPtr fine = makeEmptyMedium({true, true, false}, openvdb::math::Transform::createLinearTransform(0.1));
   auto rho = fine->density->getAccessor();
   auto d = fine->sggx_diag->getAccessor();
   auto o = fine->sggx_offdiag->getAccessor();
   auto a = fine->albedo->getAccessor();
   const Mat3 along_x = Sggx::fiberMatrix(Vec3(1, 0, 0), 0.1), along_y = Sggx::fiberMatrix(Vec3(0, 1, 0), 0.1);
-  for (int c = 0; c < 3; ++c)
+  for (int c = 0; c < 4; ++c)
     for (int k = 0; k < F * F * F; ++k) {
       const Coord ijk(c * F + k / 16, (k / 4) % 4, k % 4);
       const Mat3& S = k < x_fibres[c] ? along_x : along_y;
@@ -277,11 +282,40 @@ TEST(MultiLobeDownsample, LobeOrderFollowsTheReferenceVoxel) {
   EXPECT_EQ(result.clusters[0].reference, (std::array<int, 3>{1, 0, 0}));
   const auto lobe0 = gridNamed<openvdb::Vec3SGrid>(*result.medium, "lobe0_diag");
   const auto fraction0 = gridNamed<openvdb::FloatGrid>(*result.medium, "lobe0_fraction");
+  const auto lobe1 = gridNamed<openvdb::Vec3SGrid>(*result.medium, "lobe1_diag");
   for (int c = 0; c < 3; ++c) {
     const Vec3s S = lobe0->tree().getValue(Coord(c, 0, 0));
     EXPECT_LT(S.y(), S.x()) << "voxel " << c << ": lobe 0 should be the y fibres (small S_yy)";
     EXPECT_NEAR(fraction0->tree().getValue(Coord(c, 0, 0)), 1 - x_fibres[c] / 64.0, 1e-6) << "voxel " << c;
   }
+  EXPECT_FALSE(fraction0->tree().isValueOn(Coord(3, 0, 0)));
+  ASSERT_TRUE(lobe1->tree().isValueOn(Coord(3, 0, 0)));
+  EXPECT_LT(lobe1->tree().getValue(Coord(3, 0, 0)).x(), 0.1f) << "voxel 3: its x fibres in slot 1";
+}
+
+// Media without an albedo grid (albedo 1), and more clusters asked for than distinct albedos.
+TEST(MultiLobeDownsample, MediumWithoutAlbedoAndTooManyClusters) {
+  RandomMediumParams params;
+  params.extent = 24;
+  params.albedo = false;
+  const MediumPtr fine = makeRandomMedium(params);
+  MultiLobeOptions options;
+  options.clustering.clusters = 3;
+  const MultiLobeResult result = downsampleMultiLobe(*fine, options);
+  expectInvariants(*fine, result, options.factor);
+  EXPECT_EQ(result.clusters.size(), 1u);
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_NE(result.warnings[0].find("3 clusters asked for, 1 made: the voxels hold only 1 distinct albedos"),
+            std::string::npos)
+      << result.warnings[0];
+}
+
+// A medium without SGGX grids has nothing to fit.
+TEST(MultiLobeDownsample, RefusesAMediumWithoutSggx) {
+  RandomMediumParams params;
+  params.extent = 16;
+  params.sggx = false;
+  EXPECT_THROW(downsampleMultiLobe(*makeRandomMedium(params), {}), MediumError);
 }
 
 TEST(MultiLobeDownsample, SameOutputForAnyThreadCount) {

@@ -67,7 +67,7 @@ TEST(LobeFit, IdenticalChildrenMakeOneExactLobe) {
   ASSERT_EQ(fit.lobes.size(), 1u);
   EXPECT_DOUBLE_EQ(fit.lobes[0].fraction, 1.0);
   EXPECT_LT((fit.lobes[0].S - children[0]).norm(), 1e-15);
-  EXPECT_EQ(fit.error_by_lobes.size(), 2u);  // m = 2 found one distinct S and stopped
+  EXPECT_EQ(fit.error_by_lobes.size(), 1u);  // one distinct S: m = 1 is exact, no larger m is tried
   EXPECT_NEAR(fit.error_by_lobes[0], 0.0, 1e-12);
 }
 
