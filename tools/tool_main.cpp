@@ -1,6 +1,7 @@
 #include "tool_main.h"
 
 #include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/medium_summary.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -81,6 +82,18 @@ std::uint64_t fileSize(const std::string& path) {
   if (path == "-") return 0;
   const auto size = std::filesystem::file_size(path, error);
   return error ? 0 : size;
+}
+
+nlohmann::json summaryJson(const MediumSummary& summary, const std::string& path) {
+  nlohmann::json grids = nlohmann::json::array();
+  for (const auto& g : summary.grids)
+    grids.push_back({{"name", g.name}, {"type", g.type}, {"active_voxels", g.active_voxels}, {"memory_bytes", g.memory_bytes}});
+  return {{"path", path},
+          {"active_voxels", summary.active_voxels},
+          {"memory_bytes", summary.memory_bytes},
+          {"file_bytes", fileSize(path)},
+          {"voxel_size", summary.voxel_size},
+          {"grids", grids}};
 }
 
 }  // namespace vdbappear::tool

@@ -9,6 +9,10 @@
 #include <memory>
 #include <string>
 
+namespace vdbappear {
+struct MediumSummary;
+}
+
 namespace vdbappear::tool {
 
 // Parses flags, then runs `body`, which returns the exit status. A flag error prints CLI11's
@@ -32,6 +36,9 @@ class ThreadLimit {
 void writeJsonReport(const std::string& path, const nlohmann::json& report);
 
 std::uint64_t fileSize(const std::string& path);  // 0 for "-" or a missing file
+
+// A medium file for a report: path, active voxels, bytes in memory and on disk, voxel size, grids.
+nlohmann::json summaryJson(const MediumSummary& summary, const std::string& path);
 
 // Refuses an output that would overwrite the input (inputs are never modified) or another output.
 void checkDistinct(const std::string& input, const std::string& output, const std::string& report);

@@ -36,18 +36,6 @@ struct Options {
   bool verbose = false;
 };
 
-nlohmann::json summaryJson(const MediumSummary& s, const std::string& path) {
-  nlohmann::json grids = nlohmann::json::array();
-  for (const auto& g : s.grids)
-    grids.push_back({{"name", g.name}, {"type", g.type}, {"active_voxels", g.active_voxels}, {"memory_bytes", g.memory_bytes}});
-  return {{"path", path},
-          {"active_voxels", s.active_voxels},
-          {"memory_bytes", s.memory_bytes},
-          {"file_bytes", tool::fileSize(path)},
-          {"voxel_size", s.voxel_size},
-          {"grids", grids}};
-}
-
 int downsample(const Options& options, const std::string& history) {
   tool::checkDistinct(options.input, options.output, options.report);
   checkWritable(options.output);
@@ -82,8 +70,8 @@ int downsample(const Options& options, const std::string& history) {
                            {"version", kVersion},
                            {"factor", options.downsample.factor},
                            {"s_weight", options.downsample.s_weighting == SggxWeighting::Count ? "count" : "density"},
-                           {"input", summaryJson(in, options.input)},
-                           {"output", summaryJson(out, options.output)},
+                           {"input", tool::summaryJson(in, options.input)},
+                           {"output", tool::summaryJson(out, options.output)},
                            {"seconds", {{"read", read_seconds}, {"downsample", downsample_seconds}, {"write", write_seconds}}},
                            {"warnings", result.warnings}});
   }
