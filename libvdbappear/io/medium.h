@@ -3,6 +3,7 @@
 // of code that does not touch grids (tools include io/medium_file.h instead).
 
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/math/vector.h"
 
 #include <openvdb/openvdb.h>
 
@@ -39,6 +40,11 @@ inline constexpr int kSchemaVersion = 1;
 inline constexpr const char* kExemplarCount = "exemplar_count";  // int N
 inline constexpr const char* kExemplarBlock = "exemplar_block";  // vec3i: voxels per block along x,y,z
 }  // namespace metadata_names
+
+// Grid values to and from the library's double-precision vectors.
+inline Vec3 toVec3(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
+inline Vec3 toVec3(const openvdb::Vec3d& v) { return {v[0], v[1], v[2]}; }
+inline openvdb::Vec3s toVec3s(const Vec3& v) { return openvdb::Vec3s(float(v.x()), float(v.y()), float(v.z())); }
 
 struct Medium {
   openvdb::FloatGrid::Ptr density;      // rho, required

@@ -30,9 +30,6 @@ using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 using Vec3sLeaf = openvdb::Vec3STree::LeafNodeType;
 using CoarseLeaves = openvdb::tree::LeafManager<const openvdb::FloatTree>;
 
-Vec3 toVec3(const Vec3s& v) { return {v.x(), v.y(), v.z()}; }
-Vec3s diagonalOf(const Mat3& S) { return Vec3s(float(S(0, 0)), float(S(1, 1)), float(S(2, 2))); }
-Vec3s offDiagonalOf(const Mat3& S) { return Vec3s(float(S(0, 1)), float(S(0, 2)), float(S(1, 2))); }
 std::uint64_t voxelKey(std::uint64_t seed, const Coord& ijk) { return hashKeys(seed, {ijk.x(), ijk.y(), ijk.z()}); }
 
 template <typename GridT>
@@ -89,8 +86,8 @@ void writeSlots(const std::vector<SlotLeaves>& leaves, Index n, const std::vecto
     const SlotLeaves& leaf = leaves[j];
     if (j < lobes.size() && lobes[j].fraction > 0) {
       const float fraction = float(lobes[j].fraction);
-      leaf.diag->setValueOn(n, diagonalOf(lobes[j].S));
-      leaf.offdiag->setValueOn(n, offDiagonalOf(lobes[j].S));
+      leaf.diag->setValueOn(n, toVec3s(sggxDiagonal(lobes[j].S)));
+      leaf.offdiag->setValueOn(n, toVec3s(sggxOffDiagonal(lobes[j].S)));
       leaf.fraction->setValueOn(n, fraction);
       leaf.weight->setValueOn(n, albedo * fraction);  // Eq. (11): W_ij = albedo_i |V(i,j)| / |V(i)|
     } else {

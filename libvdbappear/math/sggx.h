@@ -22,6 +22,9 @@ struct PhaseSample {
 
 // S from the medium's channels: diag = (Sxx, Syy, Szz), offdiag = (Sxy, Sxz, Syz).
 Mat3 sggxMatrix(const Vec3& diag, const Vec3& offdiag);
+// The inverse of sggxMatrix: the channels of a symmetric S.
+inline Vec3 sggxDiagonal(const Mat3& S) { return {S(0, 0), S(1, 1), S(2, 2)}; }
+inline Vec3 sggxOffDiagonal(const Mat3& S) { return {S(0, 1), S(0, 2), S(1, 2)}; }
 
 // Is sggxMatrix(diag, offdiag) positive definite? Sylvester's criterion on the leading principal
 // minors, in double precision, without tolerance; false for non-finite entries.

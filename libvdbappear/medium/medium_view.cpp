@@ -15,8 +15,6 @@ namespace vdbappear {
 
 namespace {
 
-Vec3 toVec3(const openvdb::Vec3d& v) { return {v[0], v[1], v[2]}; }
-Vec3 toVec3(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
 Rgb toRgb(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
 
 template <typename GridT>

@@ -1,6 +1,7 @@
 #include "libvdbappear/procedural/voxel_filler.h"
 
 #include "libvdbappear/io/medium_block.h"
+#include "libvdbappear/math/sggx.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -14,9 +15,6 @@ namespace {
 
 using openvdb::Coord;
 using openvdb::CoordBBox;
-using openvdb::Vec3s;
-
-Vec3s toVec3s(const Vec3& v) { return Vec3s(float(v.x()), float(v.y()), float(v.z())); }
 
 void fillBlock(const Medium& medium, const ProceduralLayout& layout, const CoordBBox& block,
                const VoxelFunction& sample, MediumBlock& out) {
@@ -27,7 +25,7 @@ void fillBlock(const Medium& medium, const ProceduralLayout& layout, const Coord
     if (out.empty()) out.allocate(medium, block.min() & ~7);
     const Mat3& S = voxel->S;
     out.setVoxel(openvdb::FloatTree::LeafNodeType::coordToOffset(*ijk), voxel->density, toVec3s(voxel->albedo),
-                 toVec3s(Vec3(S(0, 0), S(1, 1), S(2, 2))), toVec3s(Vec3(S(0, 1), S(0, 2), S(1, 2))), voxel->hg_g);
+                 toVec3s(sggxDiagonal(S)), toVec3s(sggxOffDiagonal(S)), voxel->hg_g);
   }
 }
 

@@ -24,7 +24,6 @@ namespace {
 using openvdb::Coord;
 using openvdb::Vec3s;
 
-Vec3 toVec3(const Vec3s& v) { return {v.x(), v.y(), v.z()}; }
 
 template <typename GridT>
 typename GridT::ConstPtr gridNamed(const Medium& medium, const std::string& name) {
@@ -269,8 +268,8 @@ TEST(MultiLobeDownsample, LobeOrderFollowsTheReferenceVoxel) {
       const Coord ijk(c * F + k / 16, (k / 4) % 4, k % 4);
       const Mat3& S = k < x_fibres[c] ? along_x : along_y;
       rho.setValue(ijk, density[c]);
-      d.setValue(ijk, Vec3s(float(S(0, 0)), float(S(1, 1)), float(S(2, 2))));
-      o.setValue(ijk, Vec3s(float(S(0, 1)), float(S(0, 2)), float(S(1, 2))));
+      d.setValue(ijk, toVec3s(sggxDiagonal(S)));
+      o.setValue(ijk, toVec3s(sggxOffDiagonal(S)));
       a.setValue(ijk, Vec3s(0.5f));
     }
   MultiLobeOptions options;

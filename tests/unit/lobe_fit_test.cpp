@@ -30,7 +30,7 @@ std::vector<Mat3> twoFibreFamilies(int n_x, int n_y) {
 }
 
 bool isSpd(const Mat3& S) {
-  return isPositiveDefinite(Vec3(S(0, 0), S(1, 1), S(2, 2)), Vec3(S(0, 1), S(0, 2), S(1, 2))) &&
+  return isPositiveDefinite(sggxDiagonal(S), sggxOffDiagonal(S)) &&
          (S - S.transpose()).norm() < 1e-12;
 }
 
