@@ -1,6 +1,7 @@
 #include "tool_main.h"
 
 #include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
 
 #include <fmt/format.h>
@@ -75,6 +76,12 @@ void checkDistinct(const std::string& input, const std::string& output, const st
     throw std::runtime_error(fmt::format("{}: the report would overwrite a medium", report));
   if (report == "-" && output == "-")
     throw std::runtime_error("--report - and OUT - would both write to stdout");
+}
+
+void checkOutputs(const std::string& input, const std::string& output, const std::string& report) {
+  checkDistinct(input, output, report);
+  checkWritable(output);
+  if (!report.empty() && report != "-") checkWritable(report);
 }
 
 std::uint64_t fileSize(const std::string& path) {

@@ -43,4 +43,8 @@ nlohmann::json summaryJson(const MediumSummary& summary, const std::string& path
 // Refuses an output that would overwrite the input (inputs are never modified) or another output.
 void checkDistinct(const std::string& input, const std::string& output, const std::string& report);
 
+// Before any work: checkDistinct, then that OUT and the report (unless empty or "-") can be written
+// (checkWritable).
+void checkOutputs(const std::string& input, const std::string& output, const std::string& report);
+
 }  // namespace vdbappear::tool

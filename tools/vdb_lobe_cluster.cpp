@@ -74,9 +74,7 @@ void printSummary(const Options& options, const MultiLobeResult& result, double 
 }
 
 int cluster(const Options& options, const std::string& history) {
-  tool::checkDistinct(options.input, options.output, options.report);
-  checkWritable(options.output);
-  if (!options.report.empty() && options.report != "-") checkWritable(options.report);
+  tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
   const MediumPtr fine = readMedium(options.input);
   const double read_seconds = clock.lap();

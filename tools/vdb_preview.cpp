@@ -52,8 +52,7 @@ int main(int argc, char** argv) {
     options.view = toVec3(view);
     options.light = toVec3(light);
     if (options.view.norm() == 0 || options.light.norm() == 0) throw std::runtime_error("--view and --light must be non-zero");
-    tool::checkDistinct(input, output, "");
-    checkWritable(output);
+    tool::checkOutputs(input, output, "");
     const MediumPtr medium = readMedium(input);
     ProgressBar progress("preview", 0);
     writeImage(renderPreview(*medium, options, &progress), output);
