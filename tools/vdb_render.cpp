@@ -201,9 +201,8 @@ int main(int argc, char** argv) {
     const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
     const RenderOutputs outputs{flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage};
     checkRenderOutputs(outputs);
-    tool::checkDistinct(scene.medium, flags.output, flags.report);
+    tool::checkOutputs(scene.medium, flags.output, flags.report);
     tool::checkDistinct(scene.medium, flags.preview, flags.output);
-    checkWritable(flags.output);
     if (!flags.preview.empty()) checkWritable(flags.preview);
     std::shared_ptr<const MediumView> medium;
     if (!scene.medium.empty()) {

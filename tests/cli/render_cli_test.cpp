@@ -133,6 +133,7 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"missing env map", kCube + " --env-map " + quote(dir.path("none.exr")), "none.exr: no such image file"},
       {"zero spp", kCube + " --spp 0", "--spp must be >= 1"},
       {"negative seed", kCube + " --seed -1", "--seed"},
+      {"unwritable report", kCube + " --report " + quote(dir.path("missing/r.json")), "no such folder"},
       {"unknown flag", kCube + " --bogus", "bogus"},
   };
   for (const BadInput& c : cases) {
