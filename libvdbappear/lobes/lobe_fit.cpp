@@ -62,11 +62,6 @@ double lobeFitError(const std::vector<SggxLobe>& lobes, const std::vector<Mat3>&
   return mixtureError(lobes, meanNdf(distinctChildren(children)));
 }
 
-std::vector<SggxLobe> clusterLobes(const std::vector<Mat3>& children, int m, std::uint64_t seed) {
-  if (children.empty() || m < 1) throw std::invalid_argument("clusterLobes: no children or m < 1");
-  return clusterPoints(distinctChildren(children), m, seed);
-}
-
 LobeFit fitLobes(const std::vector<Mat3>& children, const LobeFitOptions& options, std::uint64_t seed) {
   if (children.empty()) throw std::invalid_argument("fitLobes: no children");
   const WeightedPoints points = distinctChildren(children);

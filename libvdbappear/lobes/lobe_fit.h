@@ -37,13 +37,9 @@ struct LobeFit {
 // lobes/ndf_quadrature.h.
 double lobeFitError(const std::vector<SggxLobe>& lobes, const std::vector<Mat3>& children);
 
-// K-means with m clusters on the children's S as 9-D vectors (Frobenius distance), seeded by
-// k-means++ from `seed` (deterministic), then Lloyd iterations until no child changes cluster.
-// Children with equal S are one point with a count. Returns at most m lobes (fewer when the
-// children hold fewer distinct S).
-std::vector<SggxLobe> clusterLobes(const std::vector<Mat3>& children, int m, std::uint64_t seed);
-
-// The fit of §5 with the lobe count of §8.1 (or options.forced_lobes). children must not be empty.
+// The fit of §5: for each m, K-means with m clusters on the children's S as 9-D vectors (Frobenius
+// distance; math/kmeans.h, seeded from `seed` and m), one lobe per non-empty cluster; the lobes
+// returned are those of the m chosen by §8.1 (or options.forced_lobes). children must not be empty.
 LobeFit fitLobes(const std::vector<Mat3>& children, const LobeFitOptions& options, std::uint64_t seed);
 
 }  // namespace vdbappear
