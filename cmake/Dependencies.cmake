@@ -19,6 +19,9 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(Boost 1.74 REQUIRED)   # header-only parts: math (chi-square, quadrature) in tests
 find_package(GTest REQUIRED)
+# Quadratic programming for the altered phase functions (similarity paper, Eq. 31). ALGLIB's config
+# sets ALGLIB_LIB and ALGLIB_INCLUDE_DIRS (headers in /usr/include/libalglib) instead of a target.
+find_package(ALGLIB REQUIRED)
 # OpenImageIO through pkg-config: its CMake config names a missing OpenCV include folder (build note 3).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)

@@ -11,6 +11,8 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev
   # maths, flags, JSON, formatting
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  # quadratic programming (the altered phase functions of vdb_similarity)
+  libalglib-dev
   # images (PNG previews, EXR): OpenImageIO, found through pkg-config (build note 3)
   libopenimageio-dev
   # surfaces in renders: ray tracing kernels and mesh files (OBJ, PLY)

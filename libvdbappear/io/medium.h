@@ -63,6 +63,14 @@ struct Medium {
   openvdb::GridCPtrVec grids() const;
 };
 
+// The grid of other_grids with this name, cast to GridT (null if absent or of another type).
+template <typename GridT>
+typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name) {
+  for (const auto& grid : medium.other_grids)
+    if (grid->getName() == name) return openvdb::gridPtrCast<GridT>(grid);
+  return nullptr;
+}
+
 // lobe{j}_diag, lobe{j}_offdiag, lobe{j}_fraction, lobe{j}_weight (j = 0, 1, ...): multi-lobe grids.
 bool isLobeGridName(const std::string& name);
 

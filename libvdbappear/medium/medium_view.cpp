@@ -1,6 +1,7 @@
 #include "libvdbappear/medium/medium_view.h"
 
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/phase_tables.h"
 #include "libvdbappear/medium/majorant_grid.h"
 #include "libvdbappear/medium/majorant_traversal.h"
 #include "libvdbappear/util/error.h"
@@ -17,12 +18,6 @@ namespace {
 
 Rgb toRgb(const openvdb::Vec3s& v) { return {v[0], v[1], v[2]}; }
 
-template <typename GridT>
-typename GridT::Ptr findGrid(const Medium& medium, const std::string& name) {
-  for (const auto& grid : medium.other_grids)
-    if (grid->getName() == name) return openvdb::gridPtrCast<GridT>(grid);
-  return nullptr;
-}
 
 }  // namespace
 
@@ -92,11 +87,11 @@ void MediumView::Impl::findBounds() {
 }
 
 void MediumView::Impl::findPhaseSource() {
-  if (findGrid<openvdb::Vec3SGrid>(*medium, "lobe0_weight")) {
+  if (findOtherGrid<openvdb::Vec3SGrid>(*medium, "lobe0_weight")) {
     phase_source = PhaseSource::kLobes;
   } else if (medium->hasSggx()) {
     phase_source = PhaseSource::kSggx;
-  } else if (findGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable)) {
+  } else if (findOtherGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable)) {
     phase_source = PhaseSource::kTable;
   } else if (medium->hg_g) {
     phase_source = PhaseSource::kHgGrid;
@@ -111,9 +106,9 @@ void MediumView::Impl::findPhaseSource() {
 void MediumView::Impl::readLobes() {
   auto density = medium->density->getConstAccessor();
   for (int j = 0;; ++j) {
-    LobeGrids lobe{findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_diag", j)),
-                   findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_offdiag", j)),
-                   findGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_weight", j))};
+    LobeGrids lobe{findOtherGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_diag", j)),
+                   findOtherGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_offdiag", j)),
+                   findOtherGrid<openvdb::Vec3SGrid>(*medium, fmt::format("lobe{}_weight", j))};
     if (!lobe.weight) break;
     if (!lobe.diag) fail(fmt::format("lobe{}_weight", j), fmt::format("present without 'lobe{}_diag'", j));
     if (int(lobes.size()) == ScatteringFunction::kMaxLobes)
@@ -136,24 +131,15 @@ void MediumView::Impl::readLobes() {
 
 // Table t is the row y = t of phase_table, bins along x (docs/medium.md §6).
 void MediumView::Impl::readTables() {
-  const auto table = findGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable);
-  if (!table) return;
-  const openvdb::CoordBBox box = table->evalActiveVoxelBoundingBox();
-  int bins = box.max().x() + 1;
-  if (const auto meta = medium->metadata.getMetadata<openvdb::Int32Metadata>("phase_table_bins")) bins = meta->value();
-  if (box.empty() || box.min().x() < 0 || box.min().y() < 0 || bins < 1)
-    fail(grid_names::kPhaseTable, "expected tables at indices (bin >= 0, id >= 0, 0)");
-  auto values = table->getConstAccessor();
-  for (int id = 0; id <= box.max().y(); ++id) {
-    std::vector<double> f(bins);
-    for (int b = 0; b < bins; ++b) f[b] = values.getValue(openvdb::Coord(b, id, 0));
+  for (std::vector<double>& f : readPhaseTables(*medium)) {
     try {
       tables.emplace_back(std::move(f));
     } catch (const std::exception& e) {
-      fail(grid_names::kPhaseTable, fmt::format("table {}: {}", id, e.what()));
+      fail(grid_names::kPhaseTable, fmt::format("table {}: {}", tables.size(), e.what()));
     }
   }
-  phase_id = findGrid<openvdb::Int32Grid>(*medium, grid_names::kPhaseId);
+  if (tables.empty()) return;
+  phase_id = findOtherGrid<openvdb::Int32Grid>(*medium, grid_names::kPhaseId);
   if (!phase_id) return;
   const int count = int(tables.size());
   if (phase_id->background() < 0 || phase_id->background() >= count)
@@ -165,7 +151,7 @@ void MediumView::Impl::readTables() {
 }
 
 void MediumView::Impl::readClusters() {
-  cluster = findGrid<openvdb::Int32Grid>(*medium, grid_names::kCluster);
+  cluster = findOtherGrid<openvdb::Int32Grid>(*medium, grid_names::kCluster);
   if (!cluster) return;
   for (auto id = cluster->cbeginValueOn(); id; ++id) {
     if (*id < 0) fail(grid_names::kCluster, fmt::format("negative cluster id {}", *id));

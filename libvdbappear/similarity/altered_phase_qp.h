@@ -1,0 +1,27 @@
+#pragma once
+// The altered phase function as a table (§5.2 of the similarity paper): the quadratic program of
+// Eq. (31), solved with ALGLIB's interior-point QP solver. Light header.
+
+#include <vector>
+
+namespace vdbappear {
+
+struct PhaseTableSolution {
+  bool feasible = false;
+  std::vector<double> table;  // f on k bins ascending over [-1,1], normalised (docs/medium.md §6)
+  double moment_residual = 0; // max_n |(G c)_n - f*_n| of the returned table
+  int termination = 0;        // ALGLIB's completion code (> 0: success)
+};
+
+// Eq. (31): min |S c|^2 subject to c >= 0 and G c = f*, with the boxcar basis of Eq. (30) on `bins`
+// bins, G of Eq. (28)-(29) for the moments given (f*_0 = 1 .. f*_N) and S the (k-2) x k second
+// difference ("1D Poisson") matrix. Values below kZeroBin (relative to the isotropic 1 / (4 pi))
+// are set to 0 and the moment constraints are then re-imposed on the positive bins by the least-norm
+// correction, so that zero bins are exactly zero and the moments hold to rounding. feasible is
+// false when the solver reports infeasibility or the result misses a moment by more than
+// kMomentTolerance.
+inline constexpr double kZeroBin = 1e-7;
+inline constexpr double kMomentTolerance = 1e-7;
+PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins);
+
+}  // namespace vdbappear

@@ -1,0 +1,107 @@
+#include "libvdbappear/similarity/similarity_relation.h"
+
+#include "libvdbappear/similarity/altered_phase_qp.h"
+#include "libvdbappear/similarity/legendre_moments.h"
+#include "libvdbappear/similarity/moment_existence.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace vdbappear {
+
+PhaseMoments henyeyGreensteinPhaseMoments(double g, int max_order) { return {henyeyGreensteinMoments(g, max_order), 1.0}; }
+
+PhaseMoments tablePhaseMoments(const std::vector<double>& table, int max_order) {
+  const std::vector<double> normalised = normalisedTable(table);
+  return {tableMoments(normalised, max_order), tableSupport(normalised)};
+}
+
+double defaultAlpha(double f1) { return std::min(1.0, std::max(0.3, 1 - f1)); }
+
+double minimumAlpha(double f1) { return (1 - f1) / 2; }
+
+std::vector<double> alteredMoments(const std::vector<double>& moments, double alpha) {
+  std::vector<double> altered(moments.size(), 1.0);
+  for (std::size_t n = 1; n < moments.size(); ++n) altered[n] = 1 - (1 - moments[n]) / alpha;
+  return altered;
+}
+
+namespace {
+
+std::vector<double> firstMoments(const std::vector<double>& moments, int order) {
+  return {moments.begin(), moments.begin() + order + 1};
+}
+
+void checkInputs(const PhaseMoments& phase, const SimilarityOptions& options, double alpha) {
+  if (options.max_order < 1) throw std::invalid_argument("the highest order N0 must be at least 1");
+  if (int(phase.moments.size()) < options.max_order + 1)
+    throw std::invalid_argument(fmt::format("need the phase function's moments up to order {}", options.max_order));
+  if (options.bins < options.max_order + 3) throw std::invalid_argument(fmt::format("need more than {} bins", options.max_order + 2));
+  const double f1 = phase.moments[1];
+  if (!(alpha <= 1) || !(alpha >= minimumAlpha(f1)) || !(alpha > 0))
+    throw std::invalid_argument(fmt::format(
+        "alpha {:g} outside [{:g}, 1]: below (1 - f1) / 2 = {:g} (f1 = {:g}) the altered mean cosine f1* falls "
+        "below -1 and no phase function exists",
+        alpha, minimumAlpha(f1), minimumAlpha(f1), f1));
+}
+
+}  // namespace
+
+AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options) {
+  AlteredPhase result;
+  result.alpha = options.alpha > 0 ? options.alpha : defaultAlpha(phase.moments.at(1));
+  checkInputs(phase, options, result.alpha);
+  result.input_support = phase.support;
+  const std::vector<double> altered = alteredMoments(firstMoments(phase.moments, options.max_order), result.alpha);
+
+  // Lines 4-10: the highest order whose relations are satisfiable (order 1 is, by checkInputs).
+  int order = 1;
+  result.existence_margins.push_back(checkMomentsExist(firstMoments(altered, 1)).margin);
+  while (order < options.max_order) {
+    const MomentExistence next = checkMomentsExist(firstMoments(altered, order + 1));
+    result.existence_margins.push_back(next.margin);
+    if (!next.exists) break;
+    ++order;
+  }
+
+  // Lines 11-14: solve, stepping down while the table overfits (or the QP finds none at k bins).
+  // When every order overfits, the widest table wins (ties: the higher order).
+  const double min_support = options.support_ratio * phase.support;
+  AlteredPhase widest;
+  for (; order >= 1; --order) {
+    const std::vector<double> target = firstMoments(altered, order);
+    PhaseTableSolution solution = solveAlteredPhaseTable(target, options.bins);
+    const double support = solution.feasible ? tableSupport(solution.table) : 0.0;
+    if (solution.feasible && support > widest.support) {
+      widest.order = order;
+      widest.moments = target;
+      widest.table = solution.table;
+      widest.support = support;
+    }
+    if (solution.feasible && support >= min_support) {
+      result.order = order;
+      result.moments = target;
+      result.table = std::move(solution.table);
+      result.support = support;
+      return result;
+    }
+    result.rejected.push_back(
+        {order, support,
+         solution.feasible ? fmt::format("support {:.3f} < {:g} x {:.3f} (overfitting, §7.3)", support, options.support_ratio, phase.support)
+                           : fmt::format("no table on {} bins satisfies the moments (QP code {})", options.bins, solution.termination)});
+  }
+  if (widest.order == 0) throw std::runtime_error("the QP of Eq. (31) found no table at any order; try more bins");
+  result.order = widest.order;
+  result.moments = std::move(widest.moments);
+  result.table = std::move(widest.table);
+  result.support = widest.support;
+  result.support_below_threshold = true;
+  result.rejected.erase(std::remove_if(result.rejected.begin(), result.rejected.end(),
+                                      [&](const RejectedOrder& r) { return r.order == result.order; }),
+                        result.rejected.end());
+  return result;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,64 @@
+#pragma once
+// High-order similarity relations (Zhao, Ramamoorthi and Bala 2014, "High-Order Similarity
+// Relations in Radiative Transfer"): altered parameters sigma_a* = sigma_a, sigma_s* = alpha sigma_s
+// and a phase function f* whose Legendre moments satisfy Eq. (23), found by Algorithm 1. Light
+// header.
+
+#include <string>
+#include <vector>
+
+namespace vdbappear {
+
+// A 1-D phase function as Algorithm 1 sees it: its Legendre moments f_0 = 1 .. f_{N0} (Eq. 8) and its
+// normalised support nz(f) (§7.3; 1 for HG, which is positive everywhere).
+struct PhaseMoments {
+  std::vector<double> moments;
+  double support = 1;
+};
+PhaseMoments henyeyGreensteinPhaseMoments(double g, int max_order);
+// A table on equal bins ascending over [-1,1] (docs/medium.md §6); normalised here.
+PhaseMoments tablePhaseMoments(const std::vector<double>& table, int max_order);
+
+struct SimilarityOptions {
+  double alpha = 0;             // sigma_s* / sigma_s (Eq. 22); 0: defaultAlpha(f_1)
+  int max_order = 5;            // N0 of Algorithm 1
+  double support_ratio = 0.65;  // beta of §7.3: reject f* when nz(f*) < beta nz(f)
+  int bins = 360;               // k of Eq. (30)
+};
+
+// §7.2: alpha = max(0.3, 1 - f_1), capped at 1 (backward-scattering media are not altered further).
+double defaultAlpha(double f1);
+// Below (1 - f_1) / 2, Eq. (23) gives f_1* < -1: no phase function exists even at order 1.
+double minimumAlpha(double f1);
+
+// Eq. (23): f_0* = 1, f_n* = 1 - (1 - f_n) / alpha.
+std::vector<double> alteredMoments(const std::vector<double>& moments, double alpha);
+
+// One order that Algorithm 1 solved and rejected (lines 11-14).
+struct RejectedOrder {
+  int order = 0;
+  double support = 0;  // nz(f*) of its table; 0 if the QP found none
+  std::string reason;
+};
+
+struct AlteredPhase {
+  double alpha = 1;
+  int order = 0;                             // N: the relations hold for n = 0..N
+  std::vector<double> moments;               // f_0* .. f_N*, which the table matches
+  std::vector<double> existence_margins;     // [n]: Theorem 1's margin at order n, n = 1 .. as far as tested
+  std::vector<RejectedOrder> rejected;       // higher orders tried and rejected, highest first
+  std::vector<double> table;                 // f*(mu) on `bins` bins ascending over [-1,1], normalised
+  double support = 0;                        // nz(f*)
+  double input_support = 1;                  // nz(f)
+  // Every order's table fell below the support threshold (Algorithm 1 would run out of orders):
+  // the widest table was kept, ties going to the higher order.
+  bool support_below_threshold = false;
+};
+
+// Algorithm 1: the highest order N <= N0 whose relations Theorem 1 allows (lines 4-10), then the
+// QP of Eq. (31) at order N, N-1, ... until the table is not overfitting (nz(f*) >= beta nz(f),
+// §7.3) and the QP found it (lines 11-14). If no order passes, the widest table (see above). Throws std::invalid_argument when alpha is outside
+// [minimumAlpha(f_1), 1] or the input has fewer than N0+1 moments.
+AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options);
+
+}  // namespace vdbappear

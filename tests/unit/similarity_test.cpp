@@ -1,0 +1,333 @@
+// The similarity relations (similarity paper): Legendre moments, Theorem 1, the QP of Eq. (31),
+// Algorithm 1, the colour rule and the g quantisation.
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/henyey_greenstein.h"
+#include "libvdbappear/similarity/altered_coefficients.h"
+#include "libvdbappear/similarity/altered_phase_qp.h"
+#include "libvdbappear/similarity/g_quantiser.h"
+#include "libvdbappear/similarity/legendre_moments.h"
+#include "libvdbappear/similarity/moment_existence.h"
+#include "libvdbappear/similarity/similarity_relation.h"
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace vdbappear;
+
+namespace {
+
+// Eq. (8) by adaptive quadrature.
+double numericalMoment(const std::function<double(double)>& f, int n) {
+  auto integrand = [&](double t) { return 2 * kPi * f(t) * legendrePolynomials(n, t)[n]; };
+  return boost::math::quadrature::gauss_kronrod<double, 61>::integrate(integrand, -1.0, 1.0, 15, 1e-13);
+}
+
+TEST(LegendreMoments, HenyeyGreensteinMomentsArePowersOfG) {
+  for (double g : {-0.6, 0.0, 0.3, 0.9}) {
+    const std::vector<double> f = henyeyGreensteinMoments(g, 6);
+    for (int n = 0; n <= 6; ++n)
+      EXPECT_NEAR(f[n], numericalMoment([g](double t) { return henyeyGreenstein(t, g); }, n), 1e-9) << "g " << g << " n " << n;
+  }
+}
+
+TEST(LegendreMoments, TableMomentsAreExactForPiecewiseConstantFunctions) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> table(12);
+  for (double& f : table) f = u(rng);
+  table = normalisedTable(table);
+  auto f = [&](double t) { return table[std::min(11, int((t + 1) / 2 * 12))]; };
+  const std::vector<double> moments = tableMoments(table, 5);
+  EXPECT_NEAR(moments[0], 1.0, 1e-12);
+  for (int n = 1; n <= 5; ++n) {
+    double sum = 0;  // integrate bin by bin (the integrand jumps at the edges)
+    for (int b = 0; b < 12; ++b) {
+      auto piece = [&](double t) { return 2 * kPi * table[b] * legendrePolynomials(n, t)[n]; };
+      sum += boost::math::quadrature::gauss_kronrod<double, 15>::integrate(piece, -1 + 2.0 * b / 12, -1 + 2.0 * (b + 1) / 12);
+    }
+    EXPECT_NEAR(moments[n], sum, 1e-12) << n;
+  }
+}
+
+TEST(LegendreMoments, MonomialMomentsOfHenyeyGreenstein) {
+  const double g = 0.7;
+  const std::vector<double> gamma = monomialMoments(henyeyGreensteinMoments(g, 5));
+  for (int n = 0; n <= 5; ++n) {
+    auto integrand = [&](double t) { return 2 * kPi * henyeyGreenstein(t, g) * std::pow(t, n); };
+    const double expected = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(integrand, -1.0, 1.0, 15, 1e-13);
+    EXPECT_NEAR(gamma[n], expected, 1e-10) << n;
+  }
+}
+
+// Eq. (33): 0.9 HG(0.95) + 0.1 vMF(-75), bin averages on `bins` bins, exact.
+std::vector<double> gkioulekasTable(int bins) {
+  const std::vector<double> hg = tabulateHenyeyGreenstein(0.95, bins);
+  const double kappa = -75;
+  std::vector<double> table(bins);
+  for (int b = 0; b < bins; ++b) {
+    const double lo = -1 + 2.0 * b / bins, hi = -1 + 2.0 * (b + 1) / bins;
+    const double vmf = kappa / (4 * kPi * std::sinh(kappa)) * (std::exp(kappa * hi) - std::exp(kappa * lo)) / kappa / (hi - lo);
+    table[b] = 0.9 * hg[b] + 0.1 * vmf;
+  }
+  return table;
+}
+
+// Random moment sequences: Eq. (23) of random HG and alpha, and perturbed moments of random
+// mixtures of HG lobes (many outside the moment space).
+std::vector<std::vector<double>> randomMomentSequences(int count, int order, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::vector<double>> sequences;
+  for (int i = 0; i < count; ++i) {
+    if (i % 2 == 0) {
+      const double g = -0.5 + 1.49 * u(rng);
+      const double alpha = minimumAlpha(g) + (1 - minimumAlpha(g)) * u(rng);
+      sequences.push_back(alteredMoments(henyeyGreensteinMoments(g, order), alpha));
+    } else {
+      std::vector<double> f(order + 1, 0.0);
+      double total = 0;
+      for (int lobe = 0; lobe < 3; ++lobe) {
+        const double w = u(rng), g = -0.9 + 1.8 * u(rng);
+        total += w;
+        const std::vector<double> m = henyeyGreensteinMoments(g, order);
+        for (int n = 0; n <= order; ++n) f[n] += w * m[n];
+      }
+      for (int n = 0; n <= order; ++n) f[n] /= total;
+      for (int n = 1; n <= order; ++n) f[n] += 0.1 * (u(rng) - 0.5);
+      sequences.push_back(f);
+    }
+  }
+  return sequences;
+}
+
+// Near the boundary of the moment space: (1 - lambda) (point masses) + lambda (uniform), with
+// lambda of either sign; point masses alone lie on the boundary when there are few of them.
+std::vector<std::vector<double>> boundaryMomentSequences(int count, int order, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::vector<double>> sequences;
+  for (int i = 0; i < count; ++i) {
+    std::vector<double> f(order + 1, 0.0);
+    const int atoms = 1 + order / 2;
+    for (int a = 0; a < atoms; ++a) {
+      const std::vector<double> p = legendrePolynomials(order, -1 + 2 * u(rng));
+      for (int n = 0; n <= order; ++n) f[n] += p[n] / atoms;
+    }
+    const double lambda = (i % 2 ? 1 : -1) * std::pow(10.0, -3 + 2 * u(rng));
+    for (int n = 1; n <= order; ++n) f[n] *= 1 - lambda;
+    sequences.push_back(f);
+  }
+  return sequences;
+}
+
+
+}  // namespace
+
+TEST(MomentExistence, HenyeyGreensteinMomentsExistAtEveryOrder) {
+  for (double g : {-0.8, 0.0, 0.5, 0.95})
+    for (int order = 1; order <= 8; ++order) {
+      const MomentExistence e = checkMomentsExist(henyeyGreensteinMoments(g, order));
+      EXPECT_TRUE(e.exists) << "g " << g << " order " << order;
+      EXPECT_GT(e.margin, 0) << "g " << g << " order " << order;
+    }
+}
+
+// A point mass at t0 has f_n = P_n(t0): on the boundary of the moment space from order 2 on. Scaling
+// the moments n >= 1 by 1 - lambda mixes in the uniform distribution (lambda > 0, inside) or leaves
+// the space (lambda < 0).
+TEST(MomentExistence, PointMassesLieOnTheBoundary) {
+  for (int order = 2; order <= 6; ++order) {
+    const std::vector<double> atom = legendrePolynomials(order, 0.3);
+    EXPECT_NEAR(checkMomentsExist(atom).margin, 0.0, 1e-10) << order;
+    for (double lambda : {1e-3, -1e-3}) {
+      std::vector<double> f = atom;
+      for (int n = 1; n <= order; ++n) f[n] *= 1 - lambda;
+      EXPECT_EQ(checkMomentsExist(f).exists, lambda > 0) << "order " << order << " lambda " << lambda;
+    }
+  }
+}
+
+// Theorem 1 against the QP of Eq. (31) on 1000 random sequences (half near the boundary): the QP
+// finds a table exactly when the theorem says one exists, wherever |margin| >= 1e-5.
+TEST(MomentExistence, AgreesWithQpFeasibilityOnRandomMoments) {
+  int checked = 0, infeasible = 0, near_boundary = 0;
+  for (int order = 1; order <= 5; ++order) {
+    auto sequences = randomMomentSequences(100, order, 7 + order);
+    for (auto& f : boundaryMomentSequences(100, order, 70 + order)) sequences.push_back(f);
+    for (const auto& f : sequences) {
+      const MomentExistence e = checkMomentsExist(f);
+      if (std::abs(e.margin) < 1e-5) {
+        ++near_boundary;
+        continue;
+      }
+      const PhaseTableSolution qp = solveAlteredPhaseTable(f, 360);
+      EXPECT_EQ(qp.feasible, e.exists) << "order " << order << " margin " << e.margin << " QP code " << qp.termination;
+      ++checked;
+      infeasible += !e.exists;
+    }
+  }
+  EXPECT_GE(checked, 990);
+  EXPECT_GE(infeasible, 150) << "the sample must include sequences outside the moment space";
+  EXPECT_LE(near_boundary, 10);
+}
+
+TEST(AlteredPhaseQp, ReportsMomentsOutsideTheMomentSpace) {
+  EXPECT_FALSE(solveAlteredPhaseTable({1.0, 0.5, -0.9}, 360).feasible);  // f_2 < -1/2 is impossible with f_1 = 0.5
+  EXPECT_FALSE(solveAlteredPhaseTable({1.0, 1.2}, 360).feasible);
+}
+
+// The acceptance test of the table: moments f_0* .. f_N* to 1e-5 (they hold to rounding), non-negative,
+// normalised, for HG inputs over g and alpha and for tabulated inputs.
+TEST(AlteredPhase, TableHasTheAlteredMomentsAndIsANormalisedPhaseFunction) {
+  std::vector<PhaseMoments> inputs;
+  for (double g : {0.3, 0.6, 0.8, 0.9, 0.95, 0.99}) inputs.push_back(henyeyGreensteinPhaseMoments(g, 5));
+  inputs.push_back(tablePhaseMoments(gkioulekasTable(3600), 5));
+  inputs.push_back(tablePhaseMoments(tabulateHenyeyGreenstein(-0.4, 200), 5));
+  int cases = 0;
+  for (const PhaseMoments& phase : inputs)
+    for (double alpha : {0.0, 0.5, 0.8, 1.0}) {
+      if (alpha > 0 && alpha < minimumAlpha(phase.moments[1]) + 0.01) continue;
+      SimilarityOptions options;
+      options.alpha = alpha;
+      const AlteredPhase a = computeAlteredPhase(phase, options);
+      ASSERT_EQ(int(a.table.size()), 360);
+      const std::vector<double> expected = alteredMoments(phase.moments, a.alpha);
+      const std::vector<double> got = tableMoments(a.table, a.order);
+      for (int n = 0; n <= a.order; ++n) EXPECT_NEAR(got[n], expected[n], 1e-5) << "f1 " << phase.moments[1] << " alpha " << a.alpha << " n " << n;
+      double integral = 0;
+      for (double f : a.table) {
+        EXPECT_GE(f, 0.0);
+        integral += 2 * kPi * f * 2.0 / 360;
+      }
+      EXPECT_NEAR(integral, 1.0, 1e-12);
+      ++cases;
+    }
+  EXPECT_EQ(cases, 31);
+}
+
+// Eq. (20): with alpha = 1 - f_1, order 1 gives sigma_s* = sigma_s (1 - f_1) and an isotropic f*.
+TEST(AlteredPhase, OrderOneReproducesTheReducedScattering) {
+  for (double g : {0.5, 0.9}) {
+    SimilarityOptions options;
+    options.alpha = 1 - g;
+    options.max_order = 1;
+    const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(g, 1), options);
+    EXPECT_EQ(a.order, 1);
+    EXPECT_NEAR(a.moments[1], 0.0, 1e-15);
+    for (double f : a.table) EXPECT_NEAR(f, 1 / (4 * kPi), 1e-9) << "g " << g;
+  }
+}
+
+TEST(AlteredPhase, DefaultAlphaFollowsSection72) {
+  EXPECT_DOUBLE_EQ(defaultAlpha(0.95), 0.3);
+  EXPECT_DOUBLE_EQ(defaultAlpha(0.6), 0.4);
+  EXPECT_DOUBLE_EQ(defaultAlpha(-0.3), 1.0);
+  EXPECT_EQ(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.6, 5), {}).alpha, 0.4);
+}
+
+// §7.3 exercised: for HG(0.9) at alpha 0.3, Theorem 1 allows order 5, but the order-5 and order-4
+// tables are narrow (support 0.23 and 0.58 < 0.65), so Algorithm 1 steps down to order 3.
+TEST(AlteredPhase, OverfittingRuleRejectsNarrowTables) {
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), {});
+  EXPECT_EQ(a.existence_margins.size(), 5u);
+  for (double margin : a.existence_margins) EXPECT_GT(margin, 0);
+  EXPECT_EQ(a.order, 3);
+  ASSERT_EQ(a.rejected.size(), 2u);
+  EXPECT_EQ(a.rejected[0].order, 5);
+  EXPECT_EQ(a.rejected[1].order, 4);
+  for (const RejectedOrder& r : a.rejected) EXPECT_LT(r.support, 0.65);
+  EXPECT_GE(a.support, 0.65);
+  EXPECT_FALSE(a.support_below_threshold);
+
+  SimilarityOptions no_threshold;
+  no_threshold.support_ratio = 0;
+  EXPECT_EQ(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), no_threshold).order, 5);
+}
+
+// Where Theorem 1 stops: HG(0.8) at alpha 0.3 has no order-3 altered phase function.
+TEST(AlteredPhase, OrderStopsWhereTheoremOneFails) {
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.8, 5), SimilarityOptions{0.3});
+  ASSERT_EQ(a.existence_margins.size(), 3u);
+  EXPECT_LT(a.existence_margins[2], 0);
+  EXPECT_EQ(a.order, 2);
+}
+
+// When every order overfits, the widest table is kept (HG(0.95) at alpha 0.5: supports 0.21 .. 0.30).
+TEST(AlteredPhase, KeepsTheWidestTableWhenEveryOrderOverfits) {
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.95, 5), SimilarityOptions{0.5});
+  EXPECT_TRUE(a.support_below_threshold);
+  EXPECT_EQ(a.order, 5);
+  for (const RejectedOrder& r : a.rejected) {
+    EXPECT_NE(r.order, a.order);
+    EXPECT_LE(r.support, a.support);
+  }
+  EXPECT_EQ(a.rejected.size(), 4u);
+}
+
+TEST(AlteredPhase, RefusesAlphaBelowTheOrderOneLimit) {
+  EXPECT_THROW(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), SimilarityOptions{0.04}), std::invalid_argument);
+  EXPECT_NO_THROW(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), SimilarityOptions{0.06}));
+  EXPECT_THROW(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 3), {}), std::invalid_argument) << "too few moments";
+}
+
+// A finely tabulated HG gives (nearly) the same result as HG itself.
+TEST(AlteredPhase, TabulatedInputAgreesWithTheAnalyticOne) {
+  const AlteredPhase analytic = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.85, 5), {});
+  const AlteredPhase tabulated = computeAlteredPhase(tablePhaseMoments(tabulateHenyeyGreenstein(0.85, 4096), 5), {});
+  EXPECT_NEAR(tabulated.alpha, analytic.alpha, 1e-4);
+  EXPECT_EQ(tabulated.order, analytic.order);
+  for (std::size_t b = 0; b < analytic.table.size(); ++b) EXPECT_NEAR(tabulated.table[b], analytic.table[b], 1e-3) << b;
+}
+
+TEST(AlteredCoefficients, GreyAlbedoKeepsAbsorptionAndScalesScatteringByAlpha) {
+  for (double albedo : {0.2, 0.9, 0.999, 1.0}) {
+    const double density = 7, alpha = 0.3;
+    const AlteredCoefficients c = alterCoefficients(density, Rgb::Constant(albedo), alpha, 0.9);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(c.density * (1 - c.albedo[k]), density * (1 - albedo), 1e-12) << "sigma_a* = sigma_a";
+      EXPECT_NEAR(c.density * c.albedo[k], alpha * density * albedo, 1e-12) << "sigma_s* = alpha sigma_s";
+    }
+    EXPECT_NEAR(c.reduced_attenuation_error, 0.0, 1e-12);
+  }
+}
+
+// RGB: absorption exact per channel; the reference albedo minimises the worst relative error of
+// sigma_tr,1 (checked against a scan), and that error is what alterCoefficients reports. The blue
+// channel (0.6 < 0.99 * 0.7) bounds the reference.
+TEST(AlteredCoefficients, RgbKeepsAbsorptionAndMinimisesTheWorstChannelError) {
+  const Rgb albedo(0.99, 0.9, 0.6);
+  const double density = 3, alpha = 0.3, f1 = 0.9;
+  const AlteredCoefficients c = alterCoefficients(density, albedo, alpha, f1);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c.density * (1 - c.albedo[k]), density * (1 - albedo[k]), 1e-12) << k;
+  const double f1_altered = 1 - (1 - f1) / alpha;
+  auto worst = [&](double a_ref) {
+    const double r = 1 - a_ref * (1 - alpha);
+    const Rgb altered = (1 - (1 - albedo) / r).max(0.0);
+    return ((r * (1 - altered * f1_altered) - (1 - albedo * f1)).abs() / (1 - albedo * f1)).maxCoeff();
+  };
+  double best = 1e300;  // over the references that need no negative scattering
+  for (double x = 0.6; x * (1 - alpha) <= albedo.minCoeff(); x += 1e-5) best = std::min(best, worst(x));
+  EXPECT_NEAR(c.reduced_attenuation_error, worst(referenceAlbedo(albedo, f1, alpha)), 1e-12);
+  EXPECT_LE(c.reduced_attenuation_error, best + 1e-6);
+  EXPECT_GT(c.reduced_attenuation_error, 0.01) << "a strongly coloured albedo cannot be exact";
+}
+
+TEST(GQuantiser, EveryMomentMovesByAtMostTheTolerance) {
+  for (double tolerance : {1e-2, 1e-3, 1e-4}) {
+    const GQuantiser q(tolerance, 5);
+    EXPECT_GT(q.value(0), -1);
+    EXPECT_LT(q.value(q.levels() - 1), 1);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.9999, 0.9999);
+    double worst = 0;
+    for (int i = 0; i < 100000; ++i) {
+      const double g = u(rng), gq = q.value(q.level(g));
+      for (int n = 1; n <= 5; ++n) worst = std::max(worst, std::abs(std::pow(g, n) - std::pow(gq, n)));
+    }
+    EXPECT_LE(worst, tolerance) << tolerance;
+    EXPECT_GT(worst, 0.5 * tolerance) << "the levels should not be much finer than needed";
+  }
+}
