@@ -2,11 +2,13 @@
 // Beer-Lambert (isotropic and anisotropic extinction), a sunlit diffuse plane; the majorant against
 // the true optical depth; the three light strategies against each other; determinism over threads.
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/phase_tables.h"
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/render/render_image.h"
 #include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/similarity/legendre_moments.h"
 
 #include "support/medium_testing.h"
 #include "support/test_random.h"
@@ -33,6 +35,28 @@ MediumPtr cube(int res, double size, float rho, float albedo) {
   medium->albedo->setTransform(medium->density->transform().copy());
   medium->albedo->denseFill(box, openvdb::Vec3s(albedo), true);
   return medium;
+}
+
+// Two HG phase functions, g = 0.7 where x < res/2 and -0.3 elsewhere: as an `hg_g` grid, or as
+// tables (4096 bins, exact bin averages) with `phase_id`.
+void addTwoPhaseFunctions(Medium& medium, int res, bool as_tables) {
+  auto g = openvdb::FloatGrid::create(0.0f);
+  g->setName(grid_names::kHgG);
+  auto ids = openvdb::Int32Grid::create(0);
+  ids->setName(grid_names::kPhaseId);
+  for (auto v = medium.density->cbeginValueOn(); v; ++v) {
+    const bool left = v.getCoord().x() < res / 2;
+    g->tree().setValueOn(v.getCoord(), left ? 0.7f : -0.3f);
+    ids->tree().setValueOn(v.getCoord(), left ? 0 : 1);
+  }
+  g->setTransform(medium.density->transform().copy());
+  ids->setTransform(medium.density->transform().copy());
+  if (!as_tables) {
+    medium.hg_g = g;
+    return;
+  }
+  setPhaseTables(medium, {tabulateHenyeyGreenstein(0.7, 4096), tabulateHenyeyGreenstein(-0.3, 4096)});
+  medium.other_grids.push_back(ids);
 }
 
 openvdb::Vec3s vec3s(double x, double y, double z) { return openvdb::Vec3s(float(x), float(y), float(z)); }
@@ -172,6 +196,11 @@ std::vector<FurnaceCase> furnaceCases() {
     addTwoLobes(*m, 1.0f, 7);
     return m;
   };
+  const auto tables = [] {
+    auto m = cube(12, 1.0, 6.0f, 1.0f);
+    addTwoPhaseFunctions(*m, 12, true);
+    return m;
+  };
   const auto varying = [] {  // random density, albedo 1, random S, sparse blocks
     RandomMediumParams p;
     p.extent = 24;
@@ -180,7 +209,7 @@ std::vector<FurnaceCase> furnaceCases() {
     return makeRandomMedium(p);
   };
   return {{"isotropic", iso},  {"hg", hg},         {"random_sggx", sggx},
-          {"multi_lobe", lobes}, {"random_medium", varying},
+          {"multi_lobe", lobes}, {"tabulated", tables}, {"random_medium", varying},
           {"isotropic_trilinear", iso, Interpolation::kTrilinear},
           {"random_medium_trilinear", varying, Interpolation::kTrilinear}};
 }
@@ -384,6 +413,30 @@ TEST(LightStrategies, AgreeWithinMonteCarloError) {
   }
   for (std::size_t k = 1; k < renders.size(); ++k) expectSameImage(renders[0], renders[k], "strategy " + std::to_string(k));
   EXPECT_LT(renders[0].error, renders[2].error) << "MIS should beat phase sampling alone here";
+}
+
+// vdb_render honours phase_table and phase_id: tabulated HG renders like HG itself. Back-lit and
+// optically thin (tau = 2), so the image depends on the phase functions.
+TEST(TabulatedPhase, RendersLikeTheFunctionItTabulates) {
+  const json lights = json::array({{{"type", "sun"}, {"direction", {0.2, 1.0, -0.3}}, {"strength", 3.0}},
+                                   {{"type", "env"}, {"radiance", 0.1}}});
+  std::vector<Render> renders;
+  for (const bool as_tables : {false, true}) {
+    auto medium = cube(12, 1.0, 2.0f, 0.9f);
+    addTwoPhaseFunctions(*medium, 12, as_tables);
+    renders.push_back(render(medium, lights, small(10, 512, 9), Interpolation::kNearest, "+y"));
+  }
+  expectSameImage(renders[0], renders[1], "tables against hg_g");
+  // The ids matter: one table for every voxel (no phase_id) changes the image.
+  auto one_table = cube(12, 1.0, 2.0f, 0.9f);
+  setPhaseTables(*one_table, {tabulateHenyeyGreenstein(0.7, 4096)});
+  const Render single = render(one_table, lights, small(10, 512, 9), Interpolation::kNearest, "+y");
+  double chi2 = 0;  // per pixel, about 1 for images that agree
+  const std::size_t pixels = single.result.mean.size();
+  for (std::size_t i = 0; i < pixels; ++i)
+    chi2 += std::pow(single.result.mean[i] - renders[1].result.mean[i], 2) /
+            (single.result.variance[i] + renders[1].result.variance[i] + 1e-12) / double(pixels);
+  EXPECT_GT(chi2, 4.0);
 }
 
 // Russian roulette on the path throughput (from the first event on) and on shadow rays' ratio
