@@ -4,6 +4,8 @@
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
+#include "libvdbappear/io/phase_table_file.h"
+#include "libvdbappear/io/phase_tables.h"
 #include "libvdbappear/procedural/cloud_medium.h"
 #include "libvdbappear/procedural/exemplar_medium.h"
 #include "libvdbappear/procedural/hairy_ball_medium.h"
@@ -63,6 +65,8 @@ struct Flags {
   std::optional<double> density, size, thickness, g, variation, coverage;
   std::optional<std::vector<double>> albedo, axis;
   std::optional<std::string> phase;
+  std::optional<std::string> phase_table;
+  std::optional<double> g_edge;
   // exemplars
   std::optional<int> count;
   std::optional<std::string> layout;
@@ -138,9 +142,12 @@ MediumPtr makeShapeKind(const Flags& f, Shape shape) {
   take(f.roughness, p.roughness);
   take(f.variation, p.variation);
   if (f.g && p.phase != PhaseChoice::Hg) throw std::runtime_error("--g needs --phase hg");
+  if (f.phase_table && f.phase) throw std::runtime_error("--phase-table replaces --phase: give one of them");
   if ((f.axis || f.roughness) && p.phase != PhaseChoice::SggxFiber && p.phase != PhaseChoice::SggxSurface)
     throw std::runtime_error("--axis and --roughness need --phase sggx-fiber or sggx-surface");
-  return makeShape(p);
+  MediumPtr medium = makeShape(p);
+  if (f.phase_table) setPhaseTables(*medium, {readPhaseTableFile(*f.phase_table)});
+  return medium;
 }
 
 MediumPtr makeCloudKind(const Flags& f) {
@@ -151,6 +158,7 @@ MediumPtr makeCloudKind(const Flags& f) {
   take(f.density, p.density);
   take(f.albedo, p.albedo);
   take(f.g, p.g);
+  if (f.g_edge) p.g_edge = *f.g_edge;
   take(f.coverage, p.coverage);
   return makeCloud(p);
 }
@@ -283,12 +291,17 @@ void addKindFlags(FlagRegistry& r, Flags& f) {
       ->check(CLI::PositiveNumber);
   r.add("--phase", f.phase, "isotropic, hg, sggx-fiber or sggx-surface (default isotropic)", shapes)
       ->check(CLI::IsMember(phaseChoiceNames()));
+  r.add("--phase-table", f.phase_table,
+        "a tabulated phase function for every voxel (phase_table): JSON or numbers on bins ascending in mu, as "
+        "vdb_similarity --table reads; excludes --phase", shapes);
   r.add("--g", f.g, "HG asymmetry in (-1,1) (shapes with --phase hg: 0; cloud: 0.9)", with(shapes, {"cloud"}))
       ->check(CLI::Range(-0.999, 0.999));
   r.add("--axis", f.axis, "SGGX fiber tangent or surface normal X,Y,Z (default 0,0,1)", shapes)
       ->delimiter(',')->expected(3);
   r.add("--variation", f.variation, "smooth density variation amplitude in [0,1) (default 0)", shapes)
       ->check(CLI::Range(0.0, 0.999));
+  r.add("--g-edge", f.g_edge, "per-voxel g (an hg_g grid): this at the thin edge, rising with density to --g at the peak", {"cloud"})
+      ->check(CLI::Range(-0.999, 0.999));
   r.add("--coverage", f.coverage, "share of the sphere that holds smoke (default 0.5)", {"cloud"})
       ->check(CLI::Range(0.01, 1.0));
   r.add("--count", f.count, "number of exemplars N (default 6)", {"exemplars"})->check(CLI::Range(1, 4096));

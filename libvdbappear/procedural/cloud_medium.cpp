@@ -54,6 +54,7 @@ MediumPtr makeCloud(const CloudParams& p) {
   const double voxel_size = p.size / res;
   ProceduralLayout layout = centredLayout(openvdb::Coord(res), voxel_size);
   layout.sggx = false;
+  layout.hg_g = p.g_edge.has_value();
   MediumPtr medium = fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord&, const Vec3& centre) -> std::optional<VoxelSample> {
@@ -62,9 +63,10 @@ MediumPtr makeCloud(const CloudParams& p) {
         VoxelSample voxel;
         voxel.density = float(p.density * smoothstep(excess / p.edge_softness));
         voxel.albedo = p.albedo;
+        if (p.g_edge) voxel.hg_g = float(*p.g_edge + (p.g - *p.g_edge) * voxel.density / p.density);
         return voxel;
       });
-  medium->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(float(p.g)));
+  if (!p.g_edge) medium->metadata.insertMeta(metadata_names::kHgG, openvdb::FloatMetadata(float(p.g)));
   return medium;
 }
 

@@ -1,6 +1,7 @@
 // vdb_make_medium and vdb_preview from the command line: kinds, flags, determinism, errors, images.
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/io/phase_tables.h"
 
 #include "cli/run_command.h"
 #include "support/medium_testing.h"
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 namespace vdbappear {
 namespace {
@@ -103,6 +105,34 @@ TEST(MakeMediumCli, RefusesBadKindsFlagsAndEmptyMediaWithoutOutput) {
   }
   const auto no_output = runCommand(kMakeMedium + " cube");
   EXPECT_NE(no_output.err.find("no output"), std::string::npos) << no_output.err;
+}
+
+// The similarity work's inputs: a shape with a tabulated phase function, a cloud with per-voxel g.
+TEST(MakeMediumCli, TabulatedPhaseAndPerVoxelG) {
+  TempDir dir;
+  {
+    std::ofstream(dir.path("table.txt")) << "1 2 3 4\n";
+  }
+  const std::string cube = dir.path("cube.vdb"), cloud = dir.path("cloud.vdb");
+  auto r = runCommand(kMakeMedium + " cube --res 8 --phase-table " + quote(dir.path("table.txt")) + " -o " + quote(cube));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto tables = readPhaseTables(*readMedium(cube));
+  ASSERT_EQ(tables.size(), 1u);
+  EXPECT_EQ(tables[0], (std::vector<double>{1, 2, 3, 4}));
+  r = runCommand(kMakeMedium + " cube --res 8 --phase hg --phase-table " + quote(dir.path("table.txt")) + " -o " + quote(cube + "2"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.err.find("--phase-table replaces --phase"), std::string::npos) << r.err;
+
+  r = runCommand(kMakeMedium + " cloud --res 24 --g 0.95 --g-edge 0.6 -o " + quote(cloud));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const MediumPtr medium = readMedium(cloud);
+  ASSERT_TRUE(medium->hg_g);
+  EXPECT_FALSE(hgGMetadata(medium->metadata));
+  float lo = 1, hi = -1;
+  for (auto g = medium->hg_g->cbeginValueOn(); g; ++g) lo = std::min(lo, *g), hi = std::max(hi, *g);
+  EXPECT_GE(lo, 0.6f);
+  EXPECT_LE(hi, 0.95f + 1e-6f);
+  EXPECT_GT(hi - lo, 0.2f);
 }
 
 TEST(MakeMediumCli, PipesIntoThePreview) {
