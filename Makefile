@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render lobes clean
+.PHONY: all deps configure build test demo bench bench-render lobes similarity clean
 
 all: build
 
@@ -35,7 +35,11 @@ bench-render: build
 lobes: build
 	@scripts/lobe_experiment.py --build $(BUILD_DIR)
 
+# Similarity relations: speed-up at equal quality against alpha, order 5 against order 1, throughput.
+similarity: build
+	@scripts/similarity_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out media
+	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out media
 
 include scripts/media.mk
