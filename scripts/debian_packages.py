@@ -10,3 +10,11 @@ def apt_install(packages, why):
     sudo = [] if os.geteuid() == 0 else ["sudo"]
     env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
     subprocess.run(sudo + ["apt-get", "install", "-y", "-qq", "--no-install-recommends"] + packages, check=True, env=env)
+
+
+def run_plot_script(name, args):
+    """Runs scripts/NAME with Debian's python3, installing python3-matplotlib first if it is missing."""
+    if subprocess.run(["/usr/bin/python3", "-c", "import matplotlib"], capture_output=True).returncode != 0:
+        apt_install(["python3-matplotlib"], "for the plot")
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
+    subprocess.run(["/usr/bin/python3", script] + [str(a) for a in args], check=True, text=True, capture_output=True)

@@ -20,7 +20,7 @@ import pathlib
 import subprocess
 import sys
 
-from debian_packages import apt_install
+from debian_packages import run_plot_script
 
 SKY = ["--env", "0.25", "--sun", "1,0.6,-1.2,3", "--ground"]
 CENTRE = (6.0, 6.0, 0.5)  # the 12 x 12 world-unit twill sheet
@@ -69,10 +69,7 @@ def lobe_fits(bins, out):
 
 def plot(reports, out):
     png = out / "lobe_errors.png"
-    script = pathlib.Path(__file__).with_name("plot_lobe_errors.py")
-    if subprocess.run(["/usr/bin/python3", "-c", "import matplotlib"], capture_output=True).returncode != 0:
-        apt_install(["python3-matplotlib"], "for the plot")
-    run(["/usr/bin/python3", script, png] + [out / f"{name}_lobes.json" for name in reports])
+    run_plot_script("plot_lobe_errors.py", [png] + [out / f"{name}_lobes.json" for name in reports])
     return png
 
 

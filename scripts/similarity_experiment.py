@@ -24,7 +24,7 @@ import pathlib
 import subprocess
 import time
 
-from debian_packages import apt_install
+from debian_packages import run_plot_script
 
 ALPHAS = [0.1, 0.2, 0.3, 0.5]
 RENDER = ["--res", "64", "--view", "-y", "--sun", "1,0.5,-1,3", "--env", "0.3", "--seed"]
@@ -177,10 +177,7 @@ def throughput(tools, out):
 
 def plot(out):
     png = out / "similarity.png"
-    if subprocess.run(["/usr/bin/python3", "-c", "import matplotlib"], capture_output=True).returncode != 0:
-        apt_install(["python3-matplotlib"], "for the plot")
-    run(["/usr/bin/python3", pathlib.Path(__file__).with_name("plot_similarity.py"), out / "report.json",
-         out / "phase_tables.json", png])
+    run_plot_script("plot_similarity.py", [out / "report.json", out / "phase_tables.json", png])
     return png
 
 
