@@ -1,8 +1,8 @@
 #include "libvdbappear/io/medium_file.h"
 
-#include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/vdb_writer.h"
 #include "libvdbappear/util/error.h"
 
 #include <openvdb/io/Stream.h>
@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <unistd.h>
 
@@ -94,19 +93,6 @@ VdbContents readVdbStdin() {
   checkGridNames(names, "stdin");
   return contents;
 }
-
-// io::File's writer on a stream of our own, so that a failed write (a full disk) is noticed
-// instead of a truncated file being renamed into place.
-class CheckedFileWriter : public openvdb::io::Archive {
- public:
-  void writeFile(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    if (!file) throw MediumError(fmt::format("{}: cannot open for writing", path));
-    Archive::write(file, grids, /*seekable=*/true, metadata);
-    file.close();
-    if (!file) throw MediumError(fmt::format("{}: write failed (disk full?)", path));
-  }
-};
 
 // A grey albedo (FloatGrid) as RGB: the same topology, each value repeated in three channels.
 openvdb::Vec3SGrid::Ptr greyToRgb(const openvdb::FloatGrid& grey) {
@@ -204,25 +190,7 @@ void writeMedium(const Medium& medium, const std::string& path, const std::strin
   metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
   const openvdb::GridCPtrVec grids = medium.grids();
 
-  if (path == kStdio) {
-    try {
-      openvdb::io::Stream(std::cout).write(grids, metadata);
-      std::cout.flush();
-    } catch (const std::exception& e) {
-      throw MediumError(fmt::format("stdout: cannot write the VDB stream ({})", e.what()));
-    }
-    if (!std::cout) throw MediumError("stdout: write failed");
-    return;
-  }
-  AtomicFile output(path);
-  try {
-    CheckedFileWriter().writeFile(output.temporaryPath(), grids, metadata);
-  } catch (const MediumError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: cannot write ({})", path, e.what()));
-  }
-  output.commit();
+  writeVdb(path, grids, metadata);
 }
 
 }  // namespace vdbappear
