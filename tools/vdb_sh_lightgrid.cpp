@@ -1,0 +1,190 @@
+// vdb_sh_lightgrid: many polygonal area lights prefiltered into a grid of spherical-harmonic
+// coefficients and their analytic spatial gradients (Wu 2020, dissertation ch. 5), read back by
+// tricubic Hermite interpolation.
+#include "tool_main.h"
+
+#include "libvdbappear/io/history.h"
+#include "libvdbappear/io/light_list_file.h"
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/io/sh_light_grid_file.h"
+#include "libvdbappear/lightgrid/sh_light_grid.h"
+#include "libvdbappear/lightgrid/zonal_factorisation.h"
+#include "libvdbappear/math/spherical_harmonics.h"
+#include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/version.h"
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+using namespace vdbappear;
+
+namespace {
+
+constexpr const char* kTool = "vdb_sh_lightgrid";
+
+constexpr const char* kExamples = R"(Examples:
+  vdb_sh_lightgrid --lights lights.json --bbox -1,-1,-1,1,1,1 --res 8 -o lightgrid.vdb
+  vdb_sh_lightgrid --lights lights.json --medium cloud.vdb --voxel-size 0.25 -o lightgrid.vdb --report r.json
+  vdb_sh_lightgrid --lights lights.json --lmax 8 --probe 0,0,0.5 --json      analytic, no grid
+  vdb_sh_lightgrid --grid lightgrid.vdb --probe 0,0,0.5 --interp trilinear --json
+
+Lights file: {"lights": [{"vertices": [[x,y,z], ...], "radiance": [r,g,b], "two_sided": false}]}.
+A light is a planar polygon of uniform radiance; one-sided lights emit toward the side of their
+counter-clockwise normal (p1 - p0) x (p2 - p0). The grid holds, at each node, the RGB SH
+coefficients L_lm = integral of Y_lm over the lights seen from the node (unshadowed), and their
+gradients, computed analytically (Eq. 5.23-5.32). Nodes: --res along the longest axis of the box,
+at equal spacing on all axes. docs/sh_lightgrid.md and docs/medium.md §11 describe the file.)";
+
+struct Options {
+  std::string lights_file, grid_file, output, report, medium, interp = "hermite";
+  std::optional<std::vector<double>> bbox, probe;
+  int lmax = 8, res = 8;
+  double voxel_size = 0;
+  bool json = false;
+};
+
+const std::map<std::string, CellInterpolation> kInterpolations = {
+    {"hermite", CellInterpolation::kHermite}, {"trilinear", CellInterpolation::kTrilinear}, {"taylor", CellInterpolation::kTaylor}};
+
+Vec3 vec3(const std::vector<double>& v, std::size_t first = 0) { return Vec3(v[first], v[first + 1], v[first + 2]); }
+
+nlohmann::json coeffsJson(const std::vector<Vec3>& coeffs) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Vec3& c : coeffs) list.push_back({c.x(), c.y(), c.z()});
+  return list;
+}
+
+nlohmann::json gradientsJson(const std::vector<Mat3>& gradients) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Mat3& g : gradients) {
+    nlohmann::json rgb = nlohmann::json::array();
+    for (int c = 0; c < 3; ++c) rgb.push_back({g(c, 0), g(c, 1), g(c, 2)});
+    list.push_back(rgb);
+  }
+  return list;
+}
+
+void printProbe(const nlohmann::json& j, bool json) {
+  if (json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  const auto& c = j["coeffs"][0];
+  fmt::print("L_00 = ({:.6g}, {:.6g}, {:.6g}); {} coefficients, --json prints them all\n", c[0].get<double>(),
+             c[1].get<double>(), c[2].get<double>(), j["coeffs"].size());
+}
+
+// Analytic coefficients and gradients at one point.
+int probeLights(const Options& o) {
+  const std::vector<PolygonLight> lights = readLightList(o.lights_file);
+  const ZonalFactorisation zh(o.lmax);
+  const Vec3 x = vec3(*o.probe);
+  Stopwatch clock;
+  const ShLighting sh = shLighting(lights, x, zh);
+  printProbe({{"lmax", o.lmax}, {"point", *o.probe}, {"lights", lights.size()}, {"seconds", clock.lap()},
+              {"coeffs", coeffsJson(sh.coeffs)}, {"gradients", gradientsJson(sh.gradients)}},
+             o.json);
+  return 0;
+}
+
+// Interpolated coefficients from a grid file.
+int probeGrid(const Options& o) {
+  const ShLightGrid grid = readShLightGrid(o.grid_file);
+  const std::vector<Vec3> coeffs = grid.interpolate(vec3(*o.probe), kInterpolations.at(o.interp));
+  printProbe({{"lmax", grid.lmax()}, {"point", *o.probe}, {"interpolation", o.interp}, {"coeffs", coeffsJson(coeffs)}}, o.json);
+  return 0;
+}
+
+ShGridLayout gridLayout(const Options& o) {
+  Vec3 lo, hi;
+  if (o.bbox) {
+    lo = vec3(*o.bbox, 0);
+    hi = vec3(*o.bbox, 3);
+  } else {
+    const Aabb bounds = MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds();
+    if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the medium has no active voxels: give --bbox", o.medium));
+    lo = bounds.lo;
+    hi = bounds.hi;
+  }
+  if (!((hi - lo).array() > 0).all()) throw std::invalid_argument("--bbox: every max must exceed its min");
+  return o.voxel_size > 0 ? ShGridLayout::withSpacing(lo, hi, o.voxel_size) : ShGridLayout::covering(lo, hi, o.res);
+}
+
+int buildGrid(const Options& o, const std::string& history) {
+  tool::checkOutputs(o.lights_file, o.output, o.report);
+  const std::vector<PolygonLight> lights = readLightList(o.lights_file);
+  const ShGridLayout layout = gridLayout(o);
+  Stopwatch clock;
+  ProgressBar progress("evaluating SH at the nodes", layout.count());
+  const ShLightGrid grid = ShLightGrid::evaluate(lights, o.lmax, layout, &progress);
+  progress.finish();
+  const double seconds = clock.lap();
+  writeShLightGrid(grid, o.output, history);
+  const double write_seconds = clock.lap();
+  fmt::print(stderr, "{}: {} lights on {}x{}x{} nodes (spacing {:g}), lmax {}: {:.2f} s\n", kTool, lights.size(),
+             layout.nodes.x(), layout.nodes.y(), layout.nodes.z(), layout.spacing, o.lmax, seconds);
+  if (!o.report.empty())
+    tool::writeJsonReport(o.report, {{"tool", kTool},
+                                     {"version", kVersion},
+                                     {"lights", lights.size()},
+                                     {"lmax", o.lmax},
+                                     {"coefficients", shCount(o.lmax)},
+                                     {"nodes", {layout.nodes.x(), layout.nodes.y(), layout.nodes.z()}},
+                                     {"origin", {layout.origin.x(), layout.origin.y(), layout.origin.z()}},
+                                     {"spacing", layout.spacing},
+                                     {"output", {{"path", o.output}, {"bytes", tool::fileSize(o.output)}}},
+                                     {"seconds", {{"evaluate", seconds}, {"write", write_seconds}}}});
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Polygonal area lights as a grid of spherical-harmonic coefficients and analytic SH gradients "
+               "(Wu 2020, ch. 5), read back by tricubic Hermite interpolation.",
+               kTool);
+  app.footer(kExamples);
+  app.set_version_flag("--version", kVersion);
+  Options o;
+  auto* lights = app.add_option("--lights", o.lights_file, "lights file (JSON); - reads stdin");
+  app.add_option("--grid", o.grid_file, "probe an existing SH light grid (.vdb) instead of the lights")
+                   ->check(CLI::ExistingFile)
+                   ->excludes(lights);
+  app.add_option("-o,--output", o.output, "output SH light grid (.vdb); - writes a VDB stream to stdout");
+  app.add_option("--lmax", o.lmax, "highest SH band")->check(CLI::Range(0, 20))->capture_default_str();
+  auto* res = app.add_option("--res", o.res, "nodes along the longest axis of the box")->check(CLI::Range(2, 4096))->capture_default_str();
+  app.add_option("--voxel-size", o.voxel_size, "node spacing in world units (instead of --res)")->check(CLI::PositiveNumber)->excludes(res);
+  auto* bbox = app.add_option("--bbox", o.bbox, "box of the grid: xmin,ymin,zmin,xmax,ymax,zmax")->delimiter(',')->expected(6);
+  app.add_option("--medium", o.medium, "box of the grid: the bounds of this medium's density")->check(CLI::ExistingFile)->excludes(bbox);
+  app.add_option("--probe", o.probe, "print the coefficients at X,Y,Z (analytic with --lights, interpolated with --grid)")
+      ->delimiter(',')
+      ->expected(3);
+  app.add_option("--interp", o.interp, "with --grid: hermite (Algorithm 4), trilinear or taylor")
+      ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}))
+      ->capture_default_str();
+  app.add_flag("--json", o.json, "probe: print one JSON object {lmax, coeffs, gradients}");
+  app.add_option("--report", o.report, "grid: write a JSON report (nodes, timings) to this file");
+  tool::ThreadLimit threads(app);
+
+  const std::string history = historyLine(kTool, argc, argv);
+  return tool::run(app, argc, argv, [&] {
+    threads.apply();
+    if (o.probe) {
+      if (!o.output.empty()) throw std::invalid_argument("--probe prints; it writes no grid (drop -o)");
+      if (!o.grid_file.empty()) return probeGrid(o);
+      if (o.lights_file.empty()) throw std::invalid_argument("--probe needs --lights FILE or --grid FILE");
+      return probeLights(o);
+    }
+    if (o.json) throw std::invalid_argument("--json is for --probe");
+    if (o.lights_file.empty()) throw std::invalid_argument("give --lights FILE (and -o GRID.vdb), or --probe X,Y,Z");
+    if (o.output.empty()) throw std::invalid_argument("give -o GRID.vdb for the grid (or --probe X,Y,Z)");
+    if (!o.bbox && o.medium.empty()) throw std::invalid_argument("give the grid's box: --bbox or --medium");
+    return buildGrid(o, history);
+  });
+}
