@@ -2,6 +2,7 @@
 
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/legendre.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 
 #include <Eigen/Geometry>
@@ -12,14 +13,6 @@
 namespace vdbappear {
 
 namespace {
-
-// P_0(h) .. P_{n}(h) by Bonnet's recurrence.
-void legendre(double h, int n, std::vector<double>& P) {
-  P.assign(n + 1, 0.0);
-  P[0] = 1;
-  if (n >= 1) P[1] = h;
-  for (int l = 2; l <= n; ++l) P[l] = ((2 * l - 1) * h * P[l - 1] - (l - 1) * P[l - 2]) / l;
-}
 
 // One edge of the projected polygon, in the frame of Algorithm 2, lines 5-7.
 struct Arc {
@@ -51,8 +44,8 @@ EdgeIntegrals edgeIntegrals(double c_x, double c_y, double T, int lmax) {
   const double cosT = std::cos(T), sinT = std::sin(T);
   const double h0 = c_x, h1 = c_x * cosT + c_y * sinT;
   std::vector<double> P0, P1;
-  legendre(h0, lmax + 1, P0);
-  legendre(h1, lmax + 1, P1);
+  legendrePolynomials(lmax + 1, h0, P0);
+  legendrePolynomials(lmax + 1, h1, P1);
   const double boundary = c_x * sinT - c_y * cosT;  // -h'(T)
   // Base cases (Eq. 5.28, Algorithm 3 line 2-3); D_l = int P_l'(h) dt.
   e.B[0] = T;
@@ -109,7 +102,7 @@ PolygonSh polygonSh(const std::vector<Vec3>& polygon, const Vec3& x, const Zonal
   const double omega = projectedSolidAngle(w);
   if (!(omega > 0)) return out;  // x in the plane of the polygon
   std::vector<double> P_at_0;
-  legendre(0.0, lmax, P_at_0);
+  legendrePolynomials(lmax, 0.0, P_at_0);
   std::vector<double> K(lmax + 1);
   for (int l = 0; l <= lmax; ++l) K[l] = std::sqrt((2 * l + 1) / (4 * kPi));
   // ZH integrals Lambda_l = int_Q P_l(w . w_c) dw and their gradients, per lobe (lines 9-29).

@@ -7,14 +7,6 @@
 
 namespace vdbappear {
 
-std::vector<double> legendrePolynomials(int n, double x) {
-  std::vector<double> p(n + 1);
-  p[0] = 1;
-  if (n >= 1) p[1] = x;
-  for (int j = 1; j < n; ++j) p[j + 1] = ((2 * j + 1) * x * p[j] - j * p[j - 1]) / (j + 1);
-  return p;
-}
-
 std::vector<double> henyeyGreensteinMoments(double g, int order) {
   std::vector<double> f(order + 1, 1.0);
   for (int n = 1; n <= order; ++n) f[n] = f[n - 1] * g;

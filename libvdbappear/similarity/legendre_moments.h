@@ -4,12 +4,11 @@
 // so f_0 = 1 for a normalised phase function and f_1 is the mean cosine. mu is the cosine of the
 // scattering angle (mu = 1: forward), as in docs/medium.md §6. Light header.
 
+#include "libvdbappear/math/legendre.h"
+
 #include <vector>
 
 namespace vdbappear {
-
-// P_0(x) .. P_n(x) by Bonnet's recurrence.
-std::vector<double> legendrePolynomials(int n, double x);
 
 // Eq. (8) of HG(g): f_n = g^n, n = 0..order.
 std::vector<double> henyeyGreensteinMoments(double g, int order);
