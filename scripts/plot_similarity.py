@@ -24,7 +24,7 @@ def main():
         original = tables["originals"][name]
         phases.plot(mu(len(original)), original, "k" + style, label=f"{name}: {tables['titles'][name]}")
     for name, style in [("A", "-"), ("B", "--")]:
-        for label, colour in [("order5", "tab:orange"), ("order1", "tab:blue")]:
+        for label, colour in [("algorithm1", "tab:orange"), ("order1", "tab:blue")]:
             t = tables[name][label]
             phases.plot(mu(len(t["table"])), t["table"], style, color=colour,
                         label=f"{name} altered, order {t['order']} (alpha {t['alpha']:g})")
