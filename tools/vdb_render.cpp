@@ -2,6 +2,8 @@
 #include "tool_main.h"
 
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/io/sh_light_grid_file.h"
+#include "libvdbappear/lightgrid/sh_light_grid.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/render_output.h"
 #include "libvdbappear/render/scene_description.h"
@@ -29,7 +31,7 @@ Without a camera, it is framed from +z (--view +z). Units: docs/rendering.md.)";
 
 // Flags as given on the command line; each one that was given overrides the scene file.
 struct Flags {
-  std::string medium, output, preview, scene, report, res, view, interp, strategy, env_map;
+  std::string medium, output, preview, scene, report, res, view, interp, strategy, env_map, sh_lightgrid, sh_interp = "hermite";
   std::vector<double> camera_pos, camera_target, camera_up, env, sun, point_light, ground_albedo;
   std::vector<int> sh_light;
   std::vector<std::string> aovs, meshes;
@@ -99,7 +101,7 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (app.count("--view")) scene.view = f.view;
   const nlohmann::json flag_lights = lightsOf(app, f);
   if (!flag_lights.empty()) scene.lights = flag_lights;
-  if (scene.lights.empty()) scene.lights.push_back({{"type", "env"}, {"radiance", 1.0}});
+  if (scene.lights.empty() && f.sh_lightgrid.empty()) scene.lights.push_back({{"type", "env"}, {"radiance", 1.0}});
   if (f.ground || app.count("--ground-height") || app.count("--ground-albedo")) {
     GroundDescription ground = scene.ground.value_or(GroundDescription());
     if (app.count("--ground-height")) ground.height = f.ground_height;
@@ -113,7 +115,8 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance or cluster");
     scene.render.cluster_coverage = true;
   }
-  if (scene.medium.empty() && scene.meshes.empty()) throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene)");
+  if (scene.medium.empty() && scene.meshes.empty() && !scene.ground)
+    throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene), a mesh or a ground");
   if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
   return scene;
 }
@@ -149,6 +152,12 @@ void addFlags(CLI::App& app, Flags& f) {
                "with renderers that lack SGGX");
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
   app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
+  app.add_option("--sh-lightgrid", f.sh_lightgrid,
+                 "direct light of the area lights from this SH light grid (vdb_sh_lightgrid), unshadowed, instead of "
+                 "sampling every area light")
+      ->check(CLI::ExistingFile);
+  app.add_option("--sh-interp", f.sh_interp, "SH grid interpolation: hermite (default), trilinear or taylor")
+      ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}));
   app.add_option("--aov", f.aovs, "extra EXR channels: alpha, variance, cluster (docs/rendering.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
@@ -208,7 +217,13 @@ int main(int argc, char** argv) {
     if (!scene.medium.empty()) {
       medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation, flags.no_sggx);
     }
-    const RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
+    RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
+    if (!flags.sh_lightgrid.empty()) {
+      render_scene.sh_lights = std::make_shared<const ShLightGrid>(readShLightGrid(flags.sh_lightgrid));
+      render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear
+                                      : flags.sh_interp == "taylor"  ? CellInterpolation::kTaylor
+                                                                     : CellInterpolation::kHermite;
+    }
     const CameraPose pose = cameraOf(scene, medium.get());
     const PinholeCamera camera(pose, scene.render.width, scene.render.height);
     if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
@@ -216,7 +231,8 @@ int main(int argc, char** argv) {
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
     writeRenderOutputs(result, outputs);
-    const nlohmann::json report = reportOf(scene, pose, result, medium.get());
+    nlohmann::json report = reportOf(scene, pose, result, medium.get());
+    if (render_scene.sh_lights) report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}};
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
     if (flags.verbose)
       fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",

@@ -17,7 +17,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -33,6 +36,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_sh_lightgrid --lights lights.json --medium cloud.vdb --voxel-size 0.25 -o lightgrid.vdb --report r.json
   vdb_sh_lightgrid --lights lights.json --lmax 8 --probe 0,0,0.5 --json      analytic, no grid
   vdb_sh_lightgrid --grid lightgrid.vdb --probe 0,0,0.5 --interp trilinear --json
+  vdb_sh_lightgrid --grid lightgrid.vdb --probe-points points.txt > coeffs.jsonl   one JSON line per point
 
 Lights file: {"lights": [{"vertices": [[x,y,z], ...], "radiance": [r,g,b], "two_sided": false}]}.
 A light is a planar polygon of uniform radiance; one-sided lights emit toward the side of their
@@ -42,7 +46,7 @@ gradients, computed analytically (Eq. 5.23-5.32). Nodes: --res along the longest
 at equal spacing on all axes. docs/sh_lightgrid.md and docs/medium.md §11 describe the file.)";
 
 struct Options {
-  std::string lights_file, grid_file, output, report, medium, interp = "hermite";
+  std::string lights_file, grid_file, output, report, medium, points_file, interp = "hermite";
   std::optional<std::vector<double>> bbox, probe;
   int lmax = 8, res = 8;
   double voxel_size = 0;
@@ -70,8 +74,38 @@ nlohmann::json gradientsJson(const std::vector<Mat3>& gradients) {
   return list;
 }
 
-void printProbe(const nlohmann::json& j, bool json) {
-  if (json) {
+// The points to probe: --probe X,Y,Z, or --probe-points FILE with one "x y z" (or x,y,z) per line.
+std::vector<Vec3> probePoints(const Options& o) {
+  if (o.probe) return {vec3(*o.probe)};
+  std::ifstream file_stream;
+  if (o.points_file != "-") {
+    file_stream.open(o.points_file);
+    if (!file_stream) throw std::runtime_error(o.points_file + ": cannot open the points file");
+  }
+  std::istream& in = o.points_file == "-" ? std::cin : file_stream;
+  std::vector<Vec3> points;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    std::istringstream words(line);
+    Vec3 p;
+    std::string extra;
+    if (!(words >> p.x() >> p.y() >> p.z()) || (words >> extra) || !p.allFinite())
+      throw std::runtime_error(fmt::format("{}: line {}: expected three numbers x y z", o.points_file, number));
+    points.push_back(p);
+  }
+  if (points.empty()) throw std::runtime_error(o.points_file + ": no points");
+  return points;
+}
+
+// One probe: indented JSON for --probe --json, one line per point for --probe-points, else a summary.
+void printProbe(const nlohmann::json& j, const Options& o) {
+  if (!o.points_file.empty()) {
+    std::cout << j.dump() << "\n";
+    return;
+  }
+  if (o.json) {
     std::cout << j.dump(2) << "\n";
     return;
   }
@@ -80,24 +114,28 @@ void printProbe(const nlohmann::json& j, bool json) {
              c[1].get<double>(), c[2].get<double>(), j["coeffs"].size());
 }
 
-// Analytic coefficients and gradients at one point.
+nlohmann::json pointJson(const Vec3& x) { return {x.x(), x.y(), x.z()}; }
+
+// Analytic coefficients and gradients.
 int probeLights(const Options& o) {
   const std::vector<PolygonLight> lights = readLightList(o.lights_file);
   const ZonalFactorisation zh(o.lmax);
-  const Vec3 x = vec3(*o.probe);
-  Stopwatch clock;
-  const ShLighting sh = shLighting(lights, x, zh);
-  printProbe({{"lmax", o.lmax}, {"point", *o.probe}, {"lights", lights.size()}, {"seconds", clock.lap()},
-              {"coeffs", coeffsJson(sh.coeffs)}, {"gradients", gradientsJson(sh.gradients)}},
-             o.json);
+  for (const Vec3& x : probePoints(o)) {
+    const ShLighting sh = shLighting(lights, x, zh);
+    printProbe({{"lmax", o.lmax}, {"point", pointJson(x)}, {"lights", lights.size()}, {"coeffs", coeffsJson(sh.coeffs)},
+                {"gradients", gradientsJson(sh.gradients)}},
+               o);
+  }
   return 0;
 }
 
 // Interpolated coefficients from a grid file.
 int probeGrid(const Options& o) {
   const ShLightGrid grid = readShLightGrid(o.grid_file);
-  const std::vector<Vec3> coeffs = grid.interpolate(vec3(*o.probe), kInterpolations.at(o.interp));
-  printProbe({{"lmax", grid.lmax()}, {"point", *o.probe}, {"interpolation", o.interp}, {"coeffs", coeffsJson(coeffs)}}, o.json);
+  for (const Vec3& x : probePoints(o)) {
+    const std::vector<Vec3> coeffs = grid.interpolate(x, kInterpolations.at(o.interp));
+    printProbe({{"lmax", grid.lmax()}, {"point", pointJson(x)}, {"interpolation", o.interp}, {"coeffs", coeffsJson(coeffs)}}, o);
+  }
   return 0;
 }
 
@@ -162,9 +200,11 @@ int main(int argc, char** argv) {
   app.add_option("--voxel-size", o.voxel_size, "node spacing in world units (instead of --res)")->check(CLI::PositiveNumber)->excludes(res);
   auto* bbox = app.add_option("--bbox", o.bbox, "box of the grid: xmin,ymin,zmin,xmax,ymax,zmax")->delimiter(',')->expected(6);
   app.add_option("--medium", o.medium, "box of the grid: the bounds of this medium's density")->check(CLI::ExistingFile)->excludes(bbox);
-  app.add_option("--probe", o.probe, "print the coefficients at X,Y,Z (analytic with --lights, interpolated with --grid)")
-      ->delimiter(',')
-      ->expected(3);
+  auto* probe = app.add_option("--probe", o.probe, "print the coefficients at X,Y,Z (analytic with --lights, interpolated with --grid)")
+                    ->delimiter(',')
+                    ->expected(3);
+  app.add_option("--probe-points", o.points_file, "like --probe for every point of FILE (x y z per line; - for stdin): JSON lines")
+      ->excludes(probe);
   app.add_option("--interp", o.interp, "with --grid: hermite (Algorithm 4), trilinear or taylor")
       ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}))
       ->capture_default_str();
@@ -175,10 +215,11 @@ int main(int argc, char** argv) {
   const std::string history = historyLine(kTool, argc, argv);
   return tool::run(app, argc, argv, [&] {
     threads.apply();
-    if (o.probe) {
+    if (o.probe || !o.points_file.empty()) {
       if (!o.output.empty()) throw std::invalid_argument("--probe prints; it writes no grid (drop -o)");
       if (!o.grid_file.empty()) return probeGrid(o);
       if (o.lights_file.empty()) throw std::invalid_argument("--probe needs --lights FILE or --grid FILE");
+      if (o.lights_file == "-" && o.points_file == "-") throw std::invalid_argument("--lights and --probe-points cannot both read stdin");
       return probeLights(o);
     }
     if (o.json) throw std::invalid_argument("--json is for --probe");

@@ -21,6 +21,7 @@ class AreaLight final : public Light {
   static std::vector<Triangle> fanTriangulate(const std::vector<Vec3>& vertices);
 
   bool isDelta() const override { return false; }
+  bool isArea() const override { return true; }
   LightSample sample(const Vec3& p, const Point2& u) const override;
   // Density of sample(p) over solid angle at light point y with unit normal n.
   double pdf(const Vec3& p, const Vec3& y, const Vec3& n) const;

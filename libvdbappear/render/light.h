@@ -28,6 +28,7 @@ class Light {
   virtual ~Light() = default;
   virtual bool isDelta() const = 0;
   virtual bool isEnvironment() const { return false; }
+  virtual bool isArea() const { return false; }  // polygons hit as surfaces (AreaLight)
   virtual LightSample sample(const Vec3& p, const Point2& u) const = 0;
   // Solid-angle density with which sample(p, .) returns wi (environment lights; area lights use
   // AreaLight::pdf with the hit point).

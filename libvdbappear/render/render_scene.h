@@ -1,6 +1,7 @@
 #pragma once
 // Everything a path sees: an optional medium, the lights, the opaque surfaces.
 
+#include "libvdbappear/lightgrid/cell_interpolation.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
@@ -10,11 +11,17 @@
 
 namespace vdbappear {
 
+class ShLightGrid;
+
 struct RenderScene {
   std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
+  // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5), unshadowed,
+  // instead of next-event estimation of every area light. The area lights stay visible to camera rays.
+  std::shared_ptr<const ShLightGrid> sh_lights;
+  CellInterpolation sh_interpolation = CellInterpolation::kHermite;
 };
 
 }  // namespace vdbappear

@@ -1,13 +1,16 @@
 // Analytic SH of polygonal lights (dissertation ch. 5): the ZH factorisation (Eq. 5.3), the edge
 // recurrences (Algorithm 3), coefficients against brute-force integration over the polygon and
 // gradients against central finite differences (Algorithm 2).
+#include "libvdbappear/lightgrid/adaptive_sh_grid.h"
 #include "libvdbappear/lightgrid/cell_interpolation.h"
 #include "libvdbappear/lightgrid/polygon_light.h"
 #include "libvdbappear/lightgrid/polygon_sh.h"
+#include "libvdbappear/lightgrid/sh_irradiance.h"
 #include "libvdbappear/lightgrid/sh_light_grid.h"
 #include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/legendre.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 #include "support/polygon_quadrature.h"
 #include "support/test_random.h"
@@ -28,16 +31,7 @@ const ZonalFactorisation& zh8() {
   return zh;
 }
 
-double legendreP(int l, double h) {
-  double p0 = 1, p1 = h;
-  if (l == 0) return 1;
-  for (int k = 2; k <= l; ++k) {
-    const double p2 = ((2 * k - 1) * h * p1 - (k - 1) * p0) / k;
-    p0 = p1;
-    p1 = p2;
-  }
-  return p1;
-}
+double legendreP(int l, double h) { return legendrePolynomials(l, h)[l]; }
 
 TEST(ZonalFactorisation, ReproducesEveryBasisFunction) {
   const ZonalFactorisation& zh = zh8();
@@ -253,6 +247,99 @@ TEST(ShLightGrid, HermiteBeatsTrilinearAndTaylorOnAnEightCubedGrid) {
             << "), Taylor " << taylor << " (x" << taylor / hermite << ")\n";
   EXPECT_LT(hermite * 5, trilin);
   EXPECT_LT(hermite * 5, taylor);
+}
+
+}  // namespace
+}  // namespace vdbappear
+
+namespace vdbappear {
+namespace {
+
+TEST(ShIrradiance, ClampedCosineCoefficientsMatchRamamoorthiHanrahan) {
+  const std::vector<double> A = clampedCosineCoefficients(8);
+  EXPECT_NEAR(A[0], kPi, 1e-14);
+  EXPECT_NEAR(A[1], 2 * kPi / 3, 1e-14);
+  EXPECT_NEAR(A[2], kPi / 4, 1e-14);
+  EXPECT_NEAR(A[3], 0, 1e-14);
+  EXPECT_NEAR(A[4], -kPi / 24, 1e-14);
+  EXPECT_NEAR(A[5], 0, 1e-14);
+  EXPECT_NEAR(A[6], kPi / 64, 1e-14);
+}
+
+// Irradiance of a polygon light above a plane, E = sum_i T_i (n . n_i) / 2 in closed form (Lambert,
+// Arvo), against the SH route E = sum A_l L_lm Y_lm(n): the band limit lmax 8 costs a little, more for
+// lights near the zenith of a close point. Distances 1 to 3 over a unit square: within 1.5%.
+TEST(ShIrradiance, ApproachesTheExactIrradianceOfAPolygon) {
+  const PolygonLight light{{Vec3(-0.5, -0.5, 0), Vec3(-0.5, 0.5, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, -0.5, 0)}};  // emits toward -z
+  for (double height : {1.0, 2.0, 3.0})
+    for (double offset : {0.0, 0.7, 1.5}) {
+      const Vec3 x(offset, 0.3 * offset, -height), n(0, 0, 1);
+      const std::vector<Vec3> facing = verticesFacing(light, x);
+      double exact = 0;
+      for (std::size_t i = 0; i < facing.size(); ++i) {
+        const Vec3 a = (facing[i] - x).normalized(), b = (facing[(i + 1) % facing.size()] - x).normalized();
+        exact += 0.5 * std::atan2(a.cross(b).norm(), a.dot(b)) * n.dot(a.cross(b).normalized());
+      }
+      const ShLighting sh = shLighting({light}, x, zh8());
+      const double E = shIrradiance(sh.coeffs, kLmax, n).x();
+      EXPECT_NEAR(E, exact, 0.015 * exact) << "height " << height << " offset " << offset;
+    }
+}
+
+}  // namespace
+}  // namespace vdbappear
+
+namespace vdbappear {
+namespace {
+
+// Beyond the dissertation (§5.7.3, Fig. 5.12): a two-sided light inside the box needs fine cells
+// near it only. The adaptive grid (base 4^3, up to 3 levels) against a uniform grid of at least as
+// many nodes: the relative RMS error of all coefficients at 400 random points. Measured: 5656 nodes,
+// error 0.054, against 18^3 = 5832 uniform nodes, error 0.120 (2.2x). Both keep an error floor
+// (0.048 with every cell split) from the jump of the odd bands across the two-sided light.
+TEST(AdaptiveShGrid, BeatsAUniformGridWithAsManyNodesAroundALightInsideTheBox) {
+  const PolygonLight light{{Vec3(-0.3, -0.3, 0.1), Vec3(0.3, -0.3, 0.1), Vec3(0.3, 0.3, 0.1), Vec3(-0.3, 0.3, 0.1)}, Vec3(1, 1, 1), true};
+  const Vec3 lo(-1, -1, -1), hi(1, 1, 1);
+  AdaptiveGridOptions options;
+  options.base_resolution = 4;
+  options.max_level = 3;
+  options.tolerance = 0.1;  // measured: 0.01 refines every cell (15625 nodes), 0.3 too few (worse than uniform)
+  const AdaptiveShGrid adaptive = AdaptiveShGrid::build({light}, kLmax, lo, hi, options, nullptr);
+  int res = 2;
+  while (std::pow(res, 3) < double(adaptive.nodeCount())) ++res;
+  const ShLightGrid uniform = ShLightGrid::evaluate({light}, kLmax, ShGridLayout::covering(lo, hi, res), nullptr);
+  test::TestRandom random(8);
+  double error_adaptive = 0, error_uniform = 0, norm = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Vec3 x = Vec3(random.uniform(), random.uniform(), random.uniform()) * 2 - Vec3::Ones();
+    const ShLighting exact = shLighting({light}, x, zh8());
+    const std::vector<Vec3> a = adaptive.interpolate(x, CellInterpolation::kHermite), u = uniform.interpolate(x, CellInterpolation::kHermite);
+    for (int i = 0; i < shCount(kLmax); ++i) {
+      norm += exact.coeffs[i].squaredNorm();
+      error_adaptive += (a[i] - exact.coeffs[i]).squaredNorm();
+      error_uniform += (u[i] - exact.coeffs[i]).squaredNorm();
+    }
+  }
+  const double e_a = std::sqrt(error_adaptive / norm), e_u = std::sqrt(error_uniform / norm);
+  std::cout << "adaptive: " << adaptive.nodeCount() << " nodes, levels " << adaptive.levels() << ", error " << e_a << "; uniform "
+            << res << "^3 = " << res * res * res << " nodes, error " << e_u << " (x" << e_u / e_a << ")\n";
+  EXPECT_LT(e_a * 1.5, e_u);
+}
+
+TEST(AdaptiveShGrid, WithoutRefinementIsTheUniformGrid) {
+  const PolygonLight light{{Vec3(-1, -1, 1.5), Vec3(-1, 1, 1.5), Vec3(1, 1, 1.5), Vec3(1, -1, 1.5)}, Vec3(1, 0.5, 0.25)};
+  AdaptiveGridOptions options;
+  options.base_resolution = 5;
+  options.max_level = 0;
+  const AdaptiveShGrid adaptive = AdaptiveShGrid::build({light}, 4, Vec3(-1, -1, -1), Vec3(1, 1, 1), options, nullptr);
+  const ShLightGrid uniform = ShLightGrid::evaluate({light}, 4, ShGridLayout::covering(Vec3(-1, -1, -1), Vec3(1, 1, 1), 5), nullptr);
+  EXPECT_EQ(adaptive.nodeCount(), 125u);
+  test::TestRandom random(9);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Vec3 x = Vec3(random.uniform(), random.uniform(), random.uniform()) * 2 - Vec3::Ones();
+    const std::vector<Vec3> a = adaptive.interpolate(x, CellInterpolation::kHermite), u = uniform.interpolate(x, CellInterpolation::kHermite);
+    for (int i = 0; i < shCount(4); ++i) EXPECT_NEAR((a[i] - u[i]).norm(), 0, 1e-12);
+  }
 }
 
 }  // namespace
