@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render lobes similarity clean
+.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid clean
 
 all: build
 
@@ -39,7 +39,11 @@ lobes: build
 similarity: build
 	@scripts/similarity_experiment.py --build $(BUILD_DIR)
 
+# SH light grids: scaling with the number of lights, interpolation along a line, renders with 512 lights.
+lightgrid: build
+	@scripts/lightgrid_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out media
+	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out media
 
 include scripts/media.mk

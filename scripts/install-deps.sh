@@ -19,6 +19,8 @@ packages=(
   libembree-dev libassimp-dev
   # tests
   libgtest-dev
+  # benchmarks (bench/, run by scripts)
+  libbenchmark-dev
 )
 
 if [[ "${1:-}" == "--print" ]]; then

@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""SH light grids (issue 7, dissertation ch. 5), measured: `make lightgrid`.
+
+1. Scaling (Fig. 5.8): build/bin/sh_lightgrid_bench (Google Benchmark). An 8^3 grid is evaluated for
+   1, 8, 64 and 512 triangle lights (a rectangle cut into triangles), and 1M points are interpolated
+   from it. The baseline, in the same run, is the analytic SH of every light at each point.
+2. Interpolation along a line (Fig. 5.4): coefficient (l, m) = (7, 2) under a square light, along x.
+   The reference is analytic at 2000 points; the interpolants use 10 grid nodes (Hermite, trilinear,
+   Taylor). Points go through vdb_sh_lightgrid --probe-points.
+3. Rendering with 512 lights: a diffuse ground, and a cloud, under the rectangle cut into 512
+   coloured triangles. vdb_render with next-event estimation of every light (a shadow ray per light
+   per vertex) is compared with vdb_render --sh-lightgrid (unshadowed SH, lmax 8, 8 nodes along the
+   box's longest axis), against a reference from next-event estimation at many samples. NEE is
+   also run for the time the grid render took (grid evaluation included).
+Results: lightgrid-out/report.md and report.json, images, lightgrid.png (drawn by
+scripts/plot_lightgrid.py with Debian's python3-matplotlib, installed when missing).
+Usage: scripts/lightgrid_experiment.py [--build build] [--out lightgrid-out]
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import time
+
+from debian_packages import run_plot_script
+
+SQUARE = [[-1, -1, 1.5], [1, -1, 1.5], [1, 1, 1.5], [-1, 1, 1.5]]  # counter-clockwise seen from +z: emits up
+
+
+def run(cmd, **kwargs):
+    return subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True, **kwargs).stdout
+
+
+def triangles(n, z=1.5, half=1.0):
+    """The square [-half, half]^2 at height z cut into n = 2 k^2 triangles facing down, coloured by position."""
+    k = int(round((n / 2) ** 0.5))
+    lights = []
+    for i in range(k):
+        for j in range(k):
+            x0, x1 = -half + 2 * half * i / k, -half + 2 * half * (i + 1) / k
+            y0, y1 = -half + 2 * half * j / k, -half + 2 * half * (j + 1) / k
+            colour = [2 + 2 * i / k, 2.5, 2 + 2 * j / k]
+            for tri in ([[x0, y0, z], [x1, y1, z], [x1, y0, z]], [[x0, y0, z], [x0, y1, z], [x1, y1, z]]):
+                lights.append({"vertices": tri, "radiance": colour})
+    return lights
+
+
+def scaling(build, out):
+    raw = json.loads(run([build / "bin" / "sh_lightgrid_bench", "--benchmark_format=json"]))
+    rows = []
+    for b in raw["benchmarks"]:
+        name = b["name"].split("/")[0].replace("BM_", "")
+        rows.append({"benchmark": name, "lights": int(b["lights"]), "points": int(b.get("points", 0)),
+                     "ms": b["real_time"], "nodes": int(b.get("nodes", 0))})
+    (out / "bench.json").write_text(json.dumps(raw, indent=2))
+    return rows
+
+
+def line_plot_data(build, out):
+    tool = build / "bin" / "vdb_sh_lightgrid"
+    lights = out / "square.json"
+    lights.write_text(json.dumps({"lights": [{"vertices": SQUARE[::-1], "radiance": 1}]}))
+    xs = [-2 + 4 * i / 1999 for i in range(2000)]
+    points = out / "line_points.txt"
+    points.write_text("".join(f"{x} 0.3 0\n" for x in xs))
+    index = 7 * 8 + 2  # (l, m) = (7, 2)
+
+    def probe(*args):
+        return [json.loads(line)["coeffs"][index][0] for line in run([tool, *args, "--probe-points", points]).splitlines()]
+
+    grid = out / "line_grid.vdb"
+    run([tool, "--lights", lights, "--bbox", "-2,0.3,0,2,0.3,0", "--res", "10", "-o", grid])
+    data = {"x": xs, "analytic": probe("--lights", lights)}
+    for method in ["hermite", "trilinear", "taylor"]:
+        data[method] = probe("--grid", grid, "--interp", method)
+    data["nodes"] = [-2 + 4 * i / 9 for i in range(10)]
+    data["errors"] = {m: max(abs(a - b) for a, b in zip(data["analytic"], data[m])) for m in ["hermite", "trilinear", "taylor"]}
+    (out / "line.json").write_text(json.dumps(data))
+    return {"max_abs_error": data["errors"], "max_abs_value": max(abs(v) for v in data["analytic"])}
+
+
+def render_report(build, args):
+    return json.loads(run([build / "bin" / "vdb_render", *args, "--report", "-"]))
+
+
+def compare(build, reference, image):
+    return json.loads(run([build / "bin" / "vdb_image_compare", reference, image, "--report", "-"]))
+
+
+def rendering(build, out, ref_spp, spp):
+    lights = triangles(512)
+    (out / "lights512.json").write_text(json.dumps({"lights": lights}))
+    scene_lights = [{"type": "polygon", **light} for light in lights]
+    cloud = out / "cloud.vdb"
+    run([build / "bin" / "vdb_make_medium", "cloud", "--res", "64", "--albedo", "0.9", "--density", "8", "-o", cloud])
+    scenes = {
+        "ground": ({"lights": scene_lights, "ground": {"height": 0, "albedo": 0.5},
+                    "camera": {"position": [0, -5, 3], "target": [0, 0, 0]}}, "-2.5,-2.5,0,2.5,2.5,1.4"),
+        "cloud": ({"medium": str(cloud.resolve()), "lights": scene_lights,
+                   "camera": {"position": [0, -4, 1], "target": [0, 0, 0]}}, None),
+    }
+    results = {}
+    for name, (scene, bbox) in scenes.items():
+        scene_file = out / f"{name}_scene.json"
+        scene_file.write_text(json.dumps(scene))
+        common = ["--scene", scene_file, "--res", "96", "--seed"]
+        reference = out / f"{name}_reference.exr"
+        ref = render_report(build, [*common, "1", "--spp", ref_spp, "-o", reference])
+        grid = out / f"{name}_grid.vdb"
+        start = time.perf_counter()
+        box = ["--bbox", bbox] if bbox else ["--medium", cloud]
+        run([build / "bin" / "vdb_sh_lightgrid", "--lights", out / "lights512.json", *box, "--res", "8", "-o", grid])
+        grid_seconds = time.perf_counter() - start
+        row = {"reference": {"spp": ref_spp, "seconds": ref["seconds"]}, "grid_seconds": grid_seconds}
+        for label, extra in {"sh_hermite": ["--sh-lightgrid", grid], "sh_trilinear": ["--sh-lightgrid", grid, "--sh-interp", "trilinear"],
+                             "nee": []}.items():
+            image = out / f"{name}_{label}.exr"
+            r = render_report(build, [*common, "2", "--spp", spp, "-o", image, *extra])
+            c = compare(build, reference, image)
+            row[label] = {"spp": spp, "seconds": r["seconds"], "relative_rmse": c["relative_rmse"],
+                          "mean_relative_error": c["mean_relative_error"]}
+        budget = row["sh_hermite"]["seconds"] + grid_seconds
+        image = out / f"{name}_nee_equal_time.exr"
+        r = render_report(build, [*common, "3", "--spp", "100000", "--time", f"{budget:.3f}", "-o", image])
+        c = compare(build, reference, image)
+        row["nee_equal_time"] = {"spp": r["spp"], "seconds": r["seconds"], "relative_rmse": c["relative_rmse"],
+                                 "mean_relative_error": c["mean_relative_error"]}
+        results[name] = row
+    return results
+
+
+def markdown(report):
+    lines = ["# SH light grids: measurements (`make lightgrid`)", "", "## 1. Scaling (8^3 grid, lmax 8; Google Benchmark)", "",
+             "| lights | evaluate the grid (ms) | interpolate 1M points, Hermite (ms) | trilinear (ms) | analytic, per point (ms) |",
+             "|---|---|---|---|---|"]
+    by = {}
+    for r in report["scaling"]:
+        by.setdefault(r["lights"], {})[r["benchmark"]] = r
+    def cell(b, name, spec):
+        return format(b[name]["ms"], spec) if name in b else "-"
+    for lights in sorted(by):
+        b = by[lights]
+        per_point = format(b["AnalyticPerPoint"]["ms"] / b["AnalyticPerPoint"]["points"], ".4f") if "AnalyticPerPoint" in b else "-"
+        lines.append(f"| {lights} | {cell(b, 'EvaluateGrid', '.1f')} | {cell(b, 'InterpolateHermite', '.0f')} | "
+                     f"{cell(b, 'InterpolateTrilinear', '.0f')} | {per_point} |")
+    line = report["line"]
+    lines += ["", "## 2. Coefficient (7, 2) along a line, 10 nodes (Fig. 5.4)", "",
+              f"Largest |error| over 2000 points (largest |value| {line['max_abs_value']:.4f}): " +
+              ", ".join(f"{m} {e:.5f}" for m, e in line["max_abs_error"].items()), "",
+              "## 3. Rendering with 512 lights (96x96)", "",
+              "| scene | method | spp | seconds | rel. RMSE | mean error |", "|---|---|---|---|---|---|"]
+    for name, row in report["rendering"].items():
+        lines.append(f"| {name} | reference: NEE of every light | {row['reference']['spp']} | {row['reference']['seconds']:.1f} | - | - |")
+        for label, title in [("nee", "NEE of every light"), ("sh_hermite", "SH grid, Hermite"),
+                             ("sh_trilinear", "SH grid, trilinear"), ("nee_equal_time", "NEE, same time as SH (grid included)")]:
+            r = row[label]
+            lines.append(f"| {name} | {title} | {r['spp']} | {r['seconds']:.2f} | {r['relative_rmse']:.4f} | {r['mean_relative_error']:+.4f} |")
+        lines.append(f"| {name} | (grid evaluation, 512 lights) | - | {row['grid_seconds']:.2f} | - | - |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default="build")
+    parser.add_argument("--out", default="lightgrid-out")
+    parser.add_argument("--spp", type=int, default=16)
+    parser.add_argument("--ref-spp", type=int, default=256)
+    args = parser.parse_args()
+    build, out = pathlib.Path(args.build), pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    report = {"scaling": scaling(build, out), "line": line_plot_data(build, out),
+              "rendering": rendering(build, out, args.ref_spp, args.spp)}
+    (out / "report.json").write_text(json.dumps(report, indent=2))
+    run_plot_script("plot_lightgrid.py", [out / "report.json", out / "line.json", out / "lightgrid.png"])
+    (out / "report.md").write_text(markdown(report) + "\n![plots](lightgrid.png)\n")
+    print((out / "report.md").read_text())
+
+
+if __name__ == "__main__":
+    main()
