@@ -3,7 +3,7 @@
 
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/sh_light_grid_file.h"
-#include "libvdbappear/lightgrid/sh_light_grid.h"
+#include "libvdbappear/lightgrid/sh_grid_lookup.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/render_output.h"
 #include "libvdbappear/render/scene_description.h"
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
     }
     RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     if (!flags.sh_lightgrid.empty()) {
-      render_scene.sh_lights = std::make_shared<const ShLightGrid>(readShLightGrid(flags.sh_lightgrid));
+      render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
       render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear
                                       : flags.sh_interp == "taylor"  ? CellInterpolation::kTaylor
                                                                      : CellInterpolation::kHermite;

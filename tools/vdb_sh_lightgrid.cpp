@@ -7,6 +7,7 @@
 #include "libvdbappear/io/light_list_file.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/sh_light_grid_file.h"
+#include "libvdbappear/lightgrid/adaptive_sh_grid.h"
 #include "libvdbappear/lightgrid/sh_light_grid.h"
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/spherical_harmonics.h"
@@ -34,6 +35,7 @@ constexpr const char* kTool = "vdb_sh_lightgrid";
 constexpr const char* kExamples = R"(Examples:
   vdb_sh_lightgrid --lights lights.json --bbox -1,-1,-1,1,1,1 --res 8 -o lightgrid.vdb
   vdb_sh_lightgrid --lights lights.json --medium cloud.vdb --voxel-size 0.25 -o lightgrid.vdb --report r.json
+  vdb_sh_lightgrid --lights lights.json --bbox -1,-1,-1,1,1,1 --res 4 --levels 3 -o adaptive.vdb   finer near lights
   vdb_sh_lightgrid --lights lights.json --lmax 8 --probe 0,0,0.5 --json      analytic, no grid
   vdb_sh_lightgrid --grid lightgrid.vdb --probe 0,0,0.5 --interp trilinear --json
   vdb_sh_lightgrid --grid lightgrid.vdb --probe-points points.txt > coeffs.jsonl   one JSON line per point
@@ -43,13 +45,14 @@ A light is a planar polygon of uniform radiance; one-sided lights emit toward th
 counter-clockwise normal (p1 - p0) x (p2 - p0). The grid holds, at each node, the RGB SH
 coefficients L_lm = integral of Y_lm over the lights seen from the node (unshadowed), and their
 gradients, computed analytically (Eq. 5.23-5.32). Nodes: --res along the longest axis of the box,
-at equal spacing on all axes. docs/sh_lightgrid.md and docs/medium.md §11 describe the file.)";
+at equal spacing on all axes; with --levels, cells split where the lighting varies fast. docs/sh_lightgrid.md and docs/medium.md §11 describe the file.)";
 
 struct Options {
   std::string lights_file, grid_file, output, report, medium, points_file, interp = "hermite";
   std::optional<std::vector<double>> bbox, probe;
   int lmax = 8, res = 8;
   double voxel_size = 0;
+  AdaptiveGridOptions adaptive{0, 0, 0.05, 1u << 20};  // max_level 0: uniform
   bool json = false;
 };
 
@@ -131,53 +134,70 @@ int probeLights(const Options& o) {
 
 // Interpolated coefficients from a grid file.
 int probeGrid(const Options& o) {
-  const ShLightGrid grid = readShLightGrid(o.grid_file);
+  const std::shared_ptr<const ShGridLookup> grid = readShLightGrid(o.grid_file);
   for (const Vec3& x : probePoints(o)) {
-    const std::vector<Vec3> coeffs = grid.interpolate(x, kInterpolations.at(o.interp));
-    printProbe({{"lmax", grid.lmax()}, {"point", pointJson(x)}, {"interpolation", o.interp}, {"coeffs", coeffsJson(coeffs)}}, o);
+    const std::vector<Vec3> coeffs = grid->interpolate(x, kInterpolations.at(o.interp));
+    printProbe({{"lmax", grid->lmax()}, {"point", pointJson(x)}, {"interpolation", o.interp}, {"coeffs", coeffsJson(coeffs)}}, o);
   }
   return 0;
 }
 
-ShGridLayout gridLayout(const Options& o) {
-  Vec3 lo, hi;
+// The grid's box: --bbox, or the bounds of --medium's density.
+void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
   if (o.bbox) {
-    lo = vec3(*o.bbox, 0);
-    hi = vec3(*o.bbox, 3);
+    *lo = vec3(*o.bbox, 0);
+    *hi = vec3(*o.bbox, 3);
   } else {
     const Aabb bounds = MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds();
     if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the medium has no active voxels: give --bbox", o.medium));
-    lo = bounds.lo;
-    hi = bounds.hi;
+    *lo = bounds.lo;
+    *hi = bounds.hi;
   }
-  if (!((hi - lo).array() > 0).all()) throw std::invalid_argument("--bbox: every max must exceed its min");
-  return o.voxel_size > 0 ? ShGridLayout::withSpacing(lo, hi, o.voxel_size) : ShGridLayout::covering(lo, hi, o.res);
+  if (!((*hi - *lo).array() >= 0).all() || !((*hi - *lo).maxCoeff() > 0))
+    throw std::invalid_argument("--bbox: a max is below its min, or the box is a point");
+}
+
+std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::vector<PolygonLight>& lights, nlohmann::json* report) {
+  Vec3 lo, hi;
+  gridBox(o, &lo, &hi);
+  if (o.adaptive.max_level > 0) {
+    AdaptiveGridOptions adaptive = o.adaptive;
+    adaptive.base_resolution = o.res;
+    ProgressBar progress("refining the adaptive grid", 0);
+    auto grid = std::make_shared<AdaptiveShGrid>(AdaptiveShGrid::build(lights, o.lmax, lo, hi, adaptive, &progress));
+    std::vector<std::size_t> cells;
+    for (int level = 0; level < grid->levels(); ++level) cells.push_back(grid->cellCount(level));
+    (*report)["adaptive"] = {{"levels", o.adaptive.max_level}, {"tolerance", o.adaptive.tolerance}, {"cells_per_level", cells}};
+    return grid;
+  }
+  const ShGridLayout layout = o.voxel_size > 0 ? ShGridLayout::withSpacing(lo, hi, o.voxel_size) : ShGridLayout::covering(lo, hi, o.res);
+  ProgressBar progress("evaluating SH at the nodes", layout.count());
+  auto grid = std::make_shared<ShLightGrid>(ShLightGrid::evaluate(lights, o.lmax, layout, &progress));
+  progress.finish();
+  (*report)["nodes_per_axis"] = {layout.nodes.x(), layout.nodes.y(), layout.nodes.z()};
+  return grid;
 }
 
 int buildGrid(const Options& o, const std::string& history) {
   tool::checkOutputs(o.lights_file, o.output, o.report);
   const std::vector<PolygonLight> lights = readLightList(o.lights_file);
-  const ShGridLayout layout = gridLayout(o);
+  nlohmann::json report = {{"tool", kTool}, {"version", kVersion}, {"lights", lights.size()}, {"lmax", o.lmax},
+                           {"coefficients", shCount(o.lmax)}};
   Stopwatch clock;
-  ProgressBar progress("evaluating SH at the nodes", layout.count());
-  const ShLightGrid grid = ShLightGrid::evaluate(lights, o.lmax, layout, &progress);
-  progress.finish();
+  const std::shared_ptr<const ShGridLookup> grid = evaluateGrid(o, lights, &report);
   const double seconds = clock.lap();
-  writeShLightGrid(grid, o.output, history);
+  writeShLightGrid(*grid, o.output, history);
   const double write_seconds = clock.lap();
-  fmt::print(stderr, "{}: {} lights on {}x{}x{} nodes (spacing {:g}), lmax {}: {:.2f} s\n", kTool, lights.size(),
-             layout.nodes.x(), layout.nodes.y(), layout.nodes.z(), layout.spacing, o.lmax, seconds);
-  if (!o.report.empty())
-    tool::writeJsonReport(o.report, {{"tool", kTool},
-                                     {"version", kVersion},
-                                     {"lights", lights.size()},
-                                     {"lmax", o.lmax},
-                                     {"coefficients", shCount(o.lmax)},
-                                     {"nodes", {layout.nodes.x(), layout.nodes.y(), layout.nodes.z()}},
-                                     {"origin", {layout.origin.x(), layout.origin.y(), layout.origin.z()}},
-                                     {"spacing", layout.spacing},
-                                     {"output", {{"path", o.output}, {"bytes", tool::fileSize(o.output)}}},
-                                     {"seconds", {{"evaluate", seconds}, {"write", write_seconds}}}});
+  const ShLattice lattice = grid->lattice();
+  fmt::print(stderr, "{}: {} lights on {} nodes ({}, finest spacing {:g}), lmax {}: {:.2f} s\n", kTool, lights.size(),
+             grid->nodeCount(), lattice.levels > 0 ? fmt::format("adaptive, {} levels", lattice.levels) : "uniform",
+             lattice.spacing, o.lmax, seconds);
+  report["nodes"] = grid->nodeCount();
+  report["origin"] = {lattice.origin.x(), lattice.origin.y(), lattice.origin.z()};
+  report["finest_spacing"] = lattice.spacing;
+  report["output"] = {{"path", o.output}, {"bytes", tool::fileSize(o.output)}};
+  report["seconds"] = {{"evaluate", seconds}, {"write", write_seconds}};
+  if (!o.report.empty()) tool::writeJsonReport(o.report, report);
   return 0;
 }
 
@@ -197,7 +217,20 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", o.output, "output SH light grid (.vdb); - writes a VDB stream to stdout");
   app.add_option("--lmax", o.lmax, "highest SH band")->check(CLI::Range(0, 20))->capture_default_str();
   auto* res = app.add_option("--res", o.res, "nodes along the longest axis of the box")->check(CLI::Range(2, 4096))->capture_default_str();
-  app.add_option("--voxel-size", o.voxel_size, "node spacing in world units (instead of --res)")->check(CLI::PositiveNumber)->excludes(res);
+  auto* voxel_size = app.add_option("--voxel-size", o.voxel_size, "node spacing in world units (instead of --res)")
+                         ->check(CLI::PositiveNumber)
+                         ->excludes(res);
+  app.add_option("--levels", o.adaptive.max_level,
+                 "adaptive grid: split cells in eight up to this many times where the error estimate exceeds "
+                 "--tolerance (0: uniform grid; --res is then the base resolution)")
+      ->check(CLI::Range(0, 8))
+      ->excludes(voxel_size)
+      ->capture_default_str();
+  app.add_option("--tolerance", o.adaptive.tolerance,
+                 "adaptive grid: split a cell where Hermite and trilinear differ at its centre by more than this "
+                 "times the largest L_00 of the base nodes")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   auto* bbox = app.add_option("--bbox", o.bbox, "box of the grid: xmin,ymin,zmin,xmax,ymax,zmax")->delimiter(',')->expected(6);
   app.add_option("--medium", o.medium, "box of the grid: the bounds of this medium's density")->check(CLI::ExistingFile)->excludes(bbox);
   auto* probe = app.add_option("--probe", o.probe, "print the coefficients at X,Y,Z (analytic with --lights, interpolated with --grid)")

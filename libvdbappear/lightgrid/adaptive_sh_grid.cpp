@@ -4,6 +4,7 @@
 #include "libvdbappear/math/spherical_harmonics.h"
 #include "libvdbappear/util/progress.h"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -153,7 +154,7 @@ AdaptiveShGrid AdaptiveShGrid::build(const std::vector<PolygonLight>& lights, in
   return grid;
 }
 
-std::vector<Vec3> AdaptiveShGrid::interpolate(const Vec3& x, CellInterpolation method) const {
+void AdaptiveShGrid::interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const {
   // The base cell holding x (clamped into the box), then down the split cells.
   const Vec3 local = (x - origin_) / base_spacing_;
   Cell cell{0, 0, 0, 0};
@@ -171,12 +172,82 @@ std::vector<Vec3> AdaptiveShGrid::interpolate(const Vec3& x, CellInterpolation m
   const double h = spacing(cell.level);
   const Vec3 p = (t * double(1 << cell.level) - Vec3(cell.i, cell.j, cell.k)) * h;
   const CellWeights w = cellWeights(method, p, Vec3::Constant(h));
-  std::vector<Vec3> out(shCount(lmax_), Vec3::Zero());
+  out.assign(shCount(lmax_), Vec3::Zero());
   for (int n = 0; n < 8; ++n) {
     const ShLighting& c = corner(cell, n);
     for (std::size_t s = 0; s < out.size(); ++s) out[s] += w.value[n] * c.coeffs[s] + c.gradients[s] * w.gradient[n];
   }
-  return out;
+}
+
+ShLattice AdaptiveShGrid::lattice() const {
+  const int deepest = levels() - 1;
+  return {origin_, spacing(deepest), deepest};
+}
+
+void AdaptiveShGrid::forEachNode(const std::function<void(const LatticeIndex&, const ShLighting&)>& visit) const {
+  const int deepest = levels() - 1;
+  std::vector<std::pair<LatticeIndex, std::uint32_t>> sorted;  // a fixed order, whatever the hash map's
+  for (const auto& [node_key, index] : node_index_) {
+    const int level = int(node_key >> 60);
+    const std::int64_t scale = std::int64_t(1) << (deepest - level);
+    const std::int64_t i = std::int64_t(node_key >> 40 & 0xFFFFF), j = std::int64_t(node_key >> 20 & 0xFFFFF), k = std::int64_t(node_key & 0xFFFFF);
+    sorted.push_back({{i * scale, j * scale, k * scale}, index});
+  }
+  std::sort(sorted.begin(), sorted.end());
+  for (const auto& [at, index] : sorted) visit(at, nodes_[index]);
+}
+
+bool AdaptiveShGrid::hasCorners(const Cell& c) const {
+  for (int n = 0; n < 8; ++n)
+    if (!node_index_.count(nodeKey(c.level, c.i + (n & 1), c.j + (n >> 1 & 1), c.k + (n >> 2 & 1)))) return false;
+  return true;
+}
+
+void AdaptiveShGrid::indexCells() {
+  split_.clear();
+  cells_per_level_.clear();
+  std::vector<Cell> cells;
+  for (int k = 0; k < base_cells_[2]; ++k)
+    for (int j = 0; j < base_cells_[1]; ++j)
+      for (int i = 0; i < base_cells_[0]; ++i) cells.push_back({0, i, j, k});
+  while (!cells.empty()) {
+    cells_per_level_.push_back(cells.size());
+    std::vector<Cell> children;
+    for (const Cell& c : cells) {
+      if (!hasCorners(c))
+        throw std::invalid_argument(fmt::format("adaptive SH grid: cell ({}, {}, {}) of level {} lacks a corner node", c.i, c.j, c.k, c.level));
+      if (!node_index_.count(nodeKey(c.level + 1, 2 * std::int64_t(c.i) + 1, 2 * std::int64_t(c.j) + 1, 2 * std::int64_t(c.k) + 1))) continue;
+      split_.insert(key(c.level, c.i, c.j, c.k));
+      for (int n = 0; n < 8; ++n) children.push_back({c.level + 1, 2 * c.i + (n & 1), 2 * c.j + (n >> 1 & 1), 2 * c.k + (n >> 2 & 1)});
+    }
+    cells = std::move(children);
+  }
+}
+
+AdaptiveShGrid AdaptiveShGrid::fromNodes(int lmax, const ShLattice& lattice, std::vector<std::pair<LatticeIndex, ShLighting>> nodes) {
+  if (lattice.levels < 0 || lattice.levels > kMaxLevel) throw std::invalid_argument("adaptive SH grid: levels must be in 0..12");
+  AdaptiveShGrid grid;
+  grid.lmax_ = lmax;
+  grid.origin_ = lattice.origin;
+  grid.base_spacing_ = lattice.spacing * double(1 << lattice.levels);
+  const std::int64_t step = std::int64_t(1) << lattice.levels;
+  std::int64_t top[3] = {0, 0, 0};
+  for (const auto& [at, node] : nodes)
+    for (int a = 0; a < 3; ++a) {
+      if (at[a] < 0 || at[a] >= (std::int64_t(1) << 20)) throw std::invalid_argument("adaptive SH grid: a node lies outside the lattice");
+      top[a] = std::max(top[a], at[a]);
+    }
+  for (int a = 0; a < 3; ++a) {
+    if (top[a] % step != 0 || top[a] == 0) throw std::invalid_argument("adaptive SH grid: the nodes do not end on a base node");
+    grid.base_cells_[a] = int(top[a] / step);
+  }
+  grid.nodes_.reserve(nodes.size());
+  for (auto& [at, node] : nodes) {
+    grid.node_index_[grid.nodeKey(lattice.levels, at[0], at[1], at[2])] = std::uint32_t(grid.nodes_.size());
+    grid.nodes_.push_back(std::move(node));
+  }
+  grid.indexCells();
+  return grid;
 }
 
 }  // namespace vdbappear

@@ -11,6 +11,7 @@
 // times the largest |L_00| of the base nodes. Nodes are shared between cells and levels.
 
 #include "libvdbappear/lightgrid/cell_interpolation.h"
+#include "libvdbappear/lightgrid/sh_grid_lookup.h"
 #include "libvdbappear/lightgrid/sh_lighting.h"
 
 #include <cstdint>
@@ -30,17 +31,24 @@ struct AdaptiveGridOptions {
   std::size_t max_nodes = 1u << 20;  // refinement stops before exceeding this
 };
 
-class AdaptiveShGrid {
+class AdaptiveShGrid final : public ShGridLookup {
  public:
   static AdaptiveShGrid build(const std::vector<PolygonLight>& lights, int lmax, const Vec3& lo, const Vec3& hi,
                               const AdaptiveGridOptions& options, ProgressBar* progress);
+  // The grid a file holds: its nodes on the lattice (ShLattice; base nodes at multiples of
+  // 2^levels). A cell is split where the node at its centre exists. Throws std::invalid_argument
+  // when a cell lacks a corner.
+  static AdaptiveShGrid fromNodes(int lmax, const ShLattice& lattice, std::vector<std::pair<LatticeIndex, ShLighting>> nodes);
 
-  int lmax() const { return lmax_; }
-  std::size_t nodeCount() const { return nodes_.size(); }
-  std::size_t cellCount(int level) const;  // leaf and split cells created at that level
+  int lmax() const override { return lmax_; }
+  std::size_t nodeCount() const override { return nodes_.size(); }
+  std::size_t cellCount(int level) const;  // leaf and split cells at that level
   int levels() const { return int(cells_per_level_.size()); }
 
-  std::vector<Vec3> interpolate(const Vec3& x, CellInterpolation method) const;
+  using ShGridLookup::interpolate;
+  void interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const override;
+  ShLattice lattice() const override;
+  void forEachNode(const std::function<void(const LatticeIndex&, const ShLighting&)>& visit) const override;
 
  private:
   struct Cell {
@@ -51,6 +59,8 @@ class AdaptiveShGrid {
   double spacing(int level) const { return base_spacing_ / double(1 << level); }
   Vec3 nodePosition(int level, std::int64_t i, std::int64_t j, std::int64_t k) const;
   const ShLighting& corner(const Cell& c, int corner) const;
+  bool hasCorners(const Cell& c) const;
+  void indexCells();  // split_ and cells_per_level_ from the nodes (a split cell has its centre node)
   double errorEstimate(const Cell& c) const;
   void evaluateNodes(const std::vector<std::uint64_t>& keys, const std::vector<Vec3>& positions,
                      const std::vector<PolygonLight>& lights, const ZonalFactorisation& zh);

@@ -61,30 +61,61 @@ double CellWeights::apply(const CellCorners& c) const {
   return q;
 }
 
-CellWeights cellWeights(CellInterpolation method, const Vec3& p, const Vec3& size) {
-  const auto interpolate = [&](const CellCorners& c) {
-    switch (method) {
-      case CellInterpolation::kHermite: return tricubicHermite(p, size, c);
-      case CellInterpolation::kTrilinear: return trilinear(p, size, c);
-      case CellInterpolation::kTaylor: return taylorInverseDistance(p, size, c);
-    }
-    return 0.0;
-  };
-  // The interpolant of unit data at each of the 32 inputs (linearity).
-  CellWeights w;
-  CellCorners unit;
-  for (int i = 0; i < 8; ++i) {
-    unit.f[i] = 0;
-    unit.grad[i] = Vec3::Zero();
+namespace {
+
+// Cubic Hermite basis on t in [0, 1] (Eq. 5.33-5.35 rewritten): q = H0 f_L + H1 f_R + h (D0 f'_L + D1 f'_R).
+struct HermiteBasis {
+  double H[2], D[2], L[2];  // value weights, derivative weights (times the cell size), linear weights
+  explicit HermiteBasis(double t, double size) {
+    const double t2 = t * t, t3 = t2 * t;
+    H[0] = 2 * t3 - 3 * t2 + 1;
+    H[1] = -2 * t3 + 3 * t2;
+    D[0] = size * (t3 - 2 * t2 + t);
+    D[1] = size * (t3 - t2);
+    L[0] = 1 - t;
+    L[1] = t;
   }
+};
+
+}  // namespace
+
+// Closed forms of the three interpolants' weights. Algorithm 4 is cubic Hermite along x, then y,
+// then z, with the gradients of the intermediate points interpolated linearly, so corner (bx, by, bz)
+// weighs its value by H(bx) H(by) H(bz), its x-derivative by D(bx) H(by) H(bz), its y-derivative by
+// L(bx) D(by) H(bz) and its z-derivative by L(bx) L(by) D(bz).
+CellWeights cellWeights(CellInterpolation method, const Vec3& p, const Vec3& size) {
+  CellWeights w;
+  if (method == CellInterpolation::kTaylor) {
+    double total = 0;
+    for (int i = 0; i < 8; ++i) {
+      const Vec3 d = p - cornerOffset(i, size);
+      const double d2 = d.squaredNorm();
+      if (d2 == 0) {  // at a corner: its value
+        for (int k = 0; k < 8; ++k) {
+          w.value[k] = k == i ? 1 : 0;
+          w.gradient[k] = Vec3::Zero();
+        }
+        return w;
+      }
+      w.value[i] = 1 / d2;
+      w.gradient[i] = d / d2;
+      total += 1 / d2;
+    }
+    for (int i = 0; i < 8; ++i) {
+      w.value[i] /= total;
+      w.gradient[i] /= total;
+    }
+    return w;
+  }
+  const HermiteBasis x(p.x() / size.x(), size.x()), y(p.y() / size.y(), size.y()), z(p.z() / size.z(), size.z());
   for (int i = 0; i < 8; ++i) {
-    unit.f[i] = 1;
-    w.value[i] = interpolate(unit);
-    unit.f[i] = 0;
-    for (int axis = 0; axis < 3; ++axis) {
-      unit.grad[i][axis] = 1;
-      w.gradient[i][axis] = interpolate(unit);
-      unit.grad[i][axis] = 0;
+    const int bx = i & 1, by = i >> 1 & 1, bz = i >> 2 & 1;
+    if (method == CellInterpolation::kTrilinear) {
+      w.value[i] = x.L[bx] * y.L[by] * z.L[bz];
+      w.gradient[i] = Vec3::Zero();
+    } else {
+      w.value[i] = x.H[bx] * y.H[by] * z.H[bz];
+      w.gradient[i] = Vec3(x.D[bx] * y.H[by] * z.H[bz], x.L[bx] * y.D[by] * z.H[bz], x.L[bx] * y.L[by] * z.D[bz]);
     }
   }
   return w;

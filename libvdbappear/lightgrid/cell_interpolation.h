@@ -15,8 +15,8 @@ struct CellCorners {
 enum class CellInterpolation { kHermite, kTrilinear, kTaylor };
 
 // All three interpolants are linear in the corner data, so one point's interpolant is a set of
-// weights, q = sum_i value[i] f_i + gradient[i] . grad f_i, computed once and applied to every
-// SH coefficient and colour channel.
+// weights, q = sum_i value[i] f_i + gradient[i] . grad f_i, computed once (in closed form) and
+// applied to every SH coefficient and colour channel.
 struct CellWeights {
   double value[8];
   Vec3 gradient[8];

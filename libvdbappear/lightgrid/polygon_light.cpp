@@ -44,7 +44,10 @@ void validatePolygonLight(const PolygonLight& light, const std::string& what) {
 
 std::vector<Vec3> verticesFacing(const PolygonLight& light, const Vec3& x) {
   const double side = light.normal().dot(x - light.vertices[0]);  // > 0: x is on the emitting side
-  if (side == 0 || (side < 0 && !light.two_sided)) return {};
+  // In the light's plane (to rounding: a grid node placed on a light would get gradients of 1e16),
+  // x sees the polygon edge-on: no light.
+  const double extent = (light.vertices[1] - light.vertices[0]).norm() + (x - light.vertices[0]).norm();
+  if (std::abs(side) <= 1e-12 * extent || (side < 0 && !light.two_sided)) return {};
   std::vector<Vec3> p = light.vertices;
   if (side > 0) std::reverse(p.begin(), p.end());
   return p;

@@ -24,8 +24,8 @@ struct PolygonLight {
 void validatePolygonLight(const PolygonLight& light, const std::string& what);
 
 // The vertices as Algorithm 2 wants them seen from x: ordered so that the face normal points away
-// from x ((p1 - p0) x (p2 - p0) . (p0 - x) > 0). Empty when x does not see the emitting side (or
-// lies in the light's plane).
+// from x ((p1 - p0) x (p2 - p0) . (p0 - x) > 0). Empty when x does not see the emitting side or
+// lies in the light's plane (to within 1e-12 of the distances involved).
 std::vector<Vec3> verticesFacing(const PolygonLight& light, const Vec3& x);
 
 }  // namespace vdbappear

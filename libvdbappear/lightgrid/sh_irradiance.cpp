@@ -17,7 +17,11 @@ std::vector<double> clampedCosineCoefficients(int lmax) {
 }
 
 Vec3 shIrradiance(const std::vector<Vec3>& coeffs, int lmax, const Vec3& normal) {
-  const std::vector<double> A = clampedCosineCoefficients(lmax);
+  return shIrradiance(coeffs, clampedCosineCoefficients(lmax), normal);
+}
+
+Vec3 shIrradiance(const std::vector<Vec3>& coeffs, const std::vector<double>& A, const Vec3& normal) {
+  const int lmax = int(A.size()) - 1;
   const std::vector<double> Y = evalSphericalHarmonics(lmax, normal);
   Vec3 E = Vec3::Zero();
   for (int l = 0; l <= lmax; ++l)

@@ -12,7 +12,8 @@ namespace vdbappear {
 
 std::vector<double> clampedCosineCoefficients(int lmax);  // A_0 .. A_lmax
 
-// E(n) per channel for RGB coefficients indexed l (l + 1) + m.
+// E(n) per channel for RGB coefficients indexed l (l + 1) + m; the second form takes the A_l.
 Vec3 shIrradiance(const std::vector<Vec3>& coeffs, int lmax, const Vec3& normal);
+Vec3 shIrradiance(const std::vector<Vec3>& coeffs, const std::vector<double>& A, const Vec3& normal);
 
 }  // namespace vdbappear

@@ -37,8 +37,12 @@ ShLightGrid::ShLightGrid(int lmax, const ShGridLayout& layout)
 
 ShLightGrid ShLightGrid::evaluate(const std::vector<PolygonLight>& lights, int lmax, const ShGridLayout& layout,
                                   ProgressBar* progress) {
-  const ZonalFactorisation zh(lmax);
-  ShLightGrid grid(lmax, layout);
+  return evaluate(lights, ZonalFactorisation(lmax), layout, progress);
+}
+
+ShLightGrid ShLightGrid::evaluate(const std::vector<PolygonLight>& lights, const ZonalFactorisation& zh,
+                                  const ShGridLayout& layout, ProgressBar* progress) {
+  ShLightGrid grid(zh.lmax(), layout);
   if (progress) progress->setTotal(layout.count());
   const Eigen::Vector3i n = layout.nodes;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, layout.count()), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -51,7 +55,7 @@ ShLightGrid ShLightGrid::evaluate(const std::vector<PolygonLight>& lights, int l
   return grid;
 }
 
-std::vector<Vec3> ShLightGrid::interpolate(const Vec3& x, CellInterpolation method) const {
+void ShLightGrid::interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const {
   // The cell holding x, and x relative to its corner 0.
   const Vec3 local = (x - layout_.origin) / layout_.spacing;
   Eigen::Vector3i cell;
@@ -64,10 +68,19 @@ std::vector<Vec3> ShLightGrid::interpolate(const Vec3& x, CellInterpolation meth
   const CellWeights w = cellWeights(method, p, Vec3::Constant(layout_.spacing));
   const ShLighting* corner[8];
   for (int c = 0; c < 8; ++c) corner[c] = &node(cell.x() + (c & 1), cell.y() + (c >> 1 & 1), cell.z() + (c >> 2 & 1));
-  std::vector<Vec3> out(shCount(lmax_), Vec3::Zero());
+  out.assign(shCount(lmax_), Vec3::Zero());
+  const bool gradients = method != CellInterpolation::kTrilinear;
   for (std::size_t i = 0; i < out.size(); ++i)
-    for (int c = 0; c < 8; ++c) out[i] += w.value[c] * corner[c]->coeffs[i] + corner[c]->gradients[i] * w.gradient[c];
-  return out;
+    for (int c = 0; c < 8; ++c) {
+      out[i] += w.value[c] * corner[c]->coeffs[i];
+      if (gradients) out[i] += corner[c]->gradients[i] * w.gradient[c];
+    }
+}
+
+void ShLightGrid::forEachNode(const std::function<void(const LatticeIndex&, const ShLighting&)>& visit) const {
+  for (int k = 0; k < layout_.nodes.z(); ++k)
+    for (int j = 0; j < layout_.nodes.y(); ++j)
+      for (int i = 0; i < layout_.nodes.x(); ++i) visit({i, j, k}, node(i, j, k));
 }
 
 }  // namespace vdbappear

@@ -4,6 +4,7 @@
 // same whatever the number of lights.
 
 #include "libvdbappear/lightgrid/cell_interpolation.h"
+#include "libvdbappear/lightgrid/sh_grid_lookup.h"
 #include "libvdbappear/lightgrid/sh_lighting.h"
 
 #include <Eigen/Core>
@@ -13,6 +14,7 @@
 namespace vdbappear {
 
 class ProgressBar;
+class ZonalFactorisation;
 
 struct ShGridLayout {
   Vec3 origin = Vec3::Zero();                  // world position of node (0, 0, 0)
@@ -27,21 +29,26 @@ struct ShGridLayout {
   std::size_t count() const { return std::size_t(nodes.x()) * nodes.y() * nodes.z(); }
 };
 
-class ShLightGrid {
+class ShLightGrid final : public ShGridLookup {
  public:
   ShLightGrid(int lmax, const ShGridLayout& layout);
 
   // Evaluates every node analytically (in parallel); progress may be null.
   static ShLightGrid evaluate(const std::vector<PolygonLight>& lights, int lmax, const ShGridLayout& layout,
                               ProgressBar* progress);
+  static ShLightGrid evaluate(const std::vector<PolygonLight>& lights, const ZonalFactorisation& zh,
+                              const ShGridLayout& layout, ProgressBar* progress);
 
-  int lmax() const { return lmax_; }
+  int lmax() const override { return lmax_; }
+  std::size_t nodeCount() const override { return nodes_.size(); }
   const ShGridLayout& layout() const { return layout_; }
   ShLighting& node(int i, int j, int k) { return nodes_[index(i, j, k)]; }
   const ShLighting& node(int i, int j, int k) const { return nodes_[index(i, j, k)]; }
 
-  // The RGB coefficients at x (clamped into the grid's bounds).
-  std::vector<Vec3> interpolate(const Vec3& x, CellInterpolation method) const;
+  using ShGridLookup::interpolate;
+  void interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const override;
+  ShLattice lattice() const override { return {layout_.origin, layout_.spacing, 0}; }
+  void forEachNode(const std::function<void(const LatticeIndex&, const ShLighting&)>& visit) const override;
 
  private:
   std::size_t index(int i, int j, int k) const { return (std::size_t(k) * layout_.nodes.y() + j) * layout_.nodes.x() + i; }

@@ -11,7 +11,7 @@
 
 namespace vdbappear {
 
-class ShLightGrid;
+class ShGridLookup;
 
 struct RenderScene {
   std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
@@ -20,7 +20,7 @@ struct RenderScene {
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
   // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5), unshadowed,
   // instead of next-event estimation of every area light. The area lights stay visible to camera rays.
-  std::shared_ptr<const ShLightGrid> sh_lights;
+  std::shared_ptr<const ShGridLookup> sh_lights;
   CellInterpolation sh_interpolation = CellInterpolation::kHermite;
 };
 

@@ -4,7 +4,8 @@
 #include "libvdbappear/math/frame.h"
 #include "libvdbappear/math/sampling.h"
 #include "libvdbappear/lightgrid/sh_irradiance.h"
-#include "libvdbappear/lightgrid/sh_light_grid.h"
+#include "libvdbappear/lightgrid/sh_grid_lookup.h"
+#include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/render/area_light.h"
 
 #include <stdexcept>
@@ -16,6 +17,10 @@ LightStrategy parseLightStrategy(const std::string& name) {
   if (name == "light") return LightStrategy::kLightOnly;
   if (name == "phase") return LightStrategy::kPhaseOnly;
   throw std::invalid_argument("light strategy '" + name + "': expected mis, light or phase");
+}
+
+VolumePathTracer::VolumePathTracer(const RenderScene& scene, const PathSettings& settings) : scene_(scene), settings_(settings) {
+  if (scene_.sh_lights) clamped_cosine_ = clampedCosineCoefficients(scene_.sh_lights->lmax());
 }
 
 // A scattering vertex: in the medium (scattering function) or on a diffuse surface.
@@ -77,9 +82,9 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, Medi
 // surface the irradiance E(n) in closed form (Funk-Hecke), so albedo E / pi with no variance; in the
 // medium one direction sampled from the scattering function, weight f / pdf times the SH radiance.
 Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng) const {
-  const ShLightGrid& grid = *scene_.sh_lights;
+  const ShGridLookup& grid = *scene_.sh_lights;
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
-  if (vertex.on_surface) return vertex.albedo * shIrradiance(coeffs, grid.lmax(), vertex.normal).array() / kPi;
+  if (vertex.on_surface) return vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
   const ScatterSample s = vertex.sample(rng);
   if (!(s.pdf > 0)) return Rgb::Zero();
   return s.weight * incidentRadiance(coeffs, grid.lmax(), s.wo).array();

@@ -10,6 +10,7 @@
 #include "libvdbappear/render/render_scene.h"
 
 #include <string>
+#include <vector>
 
 namespace vdbappear {
 
@@ -35,7 +36,7 @@ struct PathSample {
 
 class VolumePathTracer {
  public:
-  VolumePathTracer(const RenderScene& scene, const PathSettings& settings) : scene_(scene), settings_(settings) {}
+  VolumePathTracer(const RenderScene& scene, const PathSettings& settings);
   // lookup: this thread's MediumLookup (null when the scene has no medium).
   PathSample trace(Ray ray, RandomStream& rng, MediumLookup* lookup) const;
 
@@ -48,6 +49,7 @@ class VolumePathTracer {
 
   const RenderScene& scene_;
   PathSettings settings_;
+  std::vector<double> clamped_cosine_;  // A_l of the SH grid's bands (lightgrid/sh_irradiance.h)
 };
 
 }  // namespace vdbappear

@@ -1,6 +1,7 @@
 // vdb_sh_lightgrid from the command line: the probe's JSON contract (checked against the library),
 // grids written and read back, a grid's Hermite probe against the analytic one, bad input.
 #include "libvdbappear/io/sh_light_grid_file.h"
+#include "libvdbappear/lightgrid/adaptive_sh_grid.h"
 #include "libvdbappear/lightgrid/sh_light_grid.h"
 #include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
@@ -71,8 +72,12 @@ TEST(ShLightGridCli, GridRoundTripsAndItsHermiteProbeIsCloseToTheAnalyticOne) {
                             " --report " + quote(report));
   ASSERT_EQ(r.status, 0) << r.err;
   const json rep = json::parse(std::ifstream(report));
-  EXPECT_EQ(rep.at("nodes"), json::array({8, 8, 8}));
-  const ShLightGrid read = readShLightGrid(grid);
+  EXPECT_EQ(rep.at("nodes_per_axis"), json::array({8, 8, 8}));
+  EXPECT_EQ(rep.at("nodes"), 512);
+  const auto lookup = readShLightGrid(grid);
+  const auto* uniform = dynamic_cast<const ShLightGrid*>(lookup.get());
+  ASSERT_NE(uniform, nullptr);
+  const ShLightGrid& read = *uniform;
   EXPECT_EQ(read.lmax(), 8);
   EXPECT_NEAR(read.layout().spacing, 2.0 / 7, 1e-12);
   // Nodes hold the analytic values (stored as float).
@@ -115,6 +120,36 @@ TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   EXPECT_EQ(report.at("sh_lightgrid").at("interpolation"), "hermite");
 }
 
+// --levels: an adaptive grid around a two-sided light inside the box, written sparse and read back
+// with the same cells (the library's grid and the file's agree at random points, to float precision).
+TEST(ShLightGridCli, AdaptiveGridRoundTrips) {
+  TempDir dir;
+  const std::string lights = writeFile(dir, "lights.json", R"({"lights": [{"vertices": [[-0.3,-0.3,0.1],[0.3,-0.3,0.1],[0.3,0.3,0.1],[-0.3,0.3,0.1]], "two_sided": true}]})");
+  const std::string grid = dir.path("adaptive.vdb"), report = dir.path("r.json");
+  const auto r = runCommand(kLightGrid + " --lights " + quote(lights) + " --bbox -1,-1,-1,1,1,1 --res 4 --levels 2 --lmax 4 -o " +
+                            quote(grid) + " --report " + quote(report));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json rep = json::parse(std::ifstream(report));
+  const std::size_t nodes = rep.at("nodes").get<std::size_t>();
+  EXPECT_GT(nodes, 64u);         // some cells split
+  EXPECT_LT(nodes, 13u * 13 * 13);  // not all of them
+  const auto lookup = readShLightGrid(grid);
+  ASSERT_NE(dynamic_cast<const AdaptiveShGrid*>(lookup.get()), nullptr);
+  EXPECT_EQ(lookup->nodeCount(), nodes);
+  EXPECT_EQ(lookup->lattice().levels, 2);
+  AdaptiveGridOptions options;
+  options.base_resolution = 4;
+  options.max_level = 2;
+  const PolygonLight light{{Vec3(-0.3, -0.3, 0.1), Vec3(0.3, -0.3, 0.1), Vec3(0.3, 0.3, 0.1), Vec3(-0.3, 0.3, 0.1)}, Vec3(1, 1, 1), true};
+  const AdaptiveShGrid built = AdaptiveShGrid::build({light}, 4, Vec3(-1, -1, -1), Vec3(1, 1, 1), options, nullptr);
+  EXPECT_EQ(built.nodeCount(), nodes);
+  for (double t : {0.05, 0.31, 0.5, 0.77, 0.93}) {
+    const Vec3 x(2 * t - 1, 1.3 * t - 0.9, 0.2 - 0.4 * t);
+    const std::vector<Vec3> a = built.interpolate(x, CellInterpolation::kHermite), b = lookup->interpolate(x, CellInterpolation::kHermite);
+    for (int i = 0; i < shCount(4); ++i) EXPECT_NEAR((a[i] - b[i]).norm(), 0, 1e-5 * (1 + a[i].norm())) << i;
+  }
+}
+
 TEST(ShLightGridCli, BadInputGetsOneMessageAndNoOutput) {
   TempDir dir;
   const std::string grid = dir.path("grid.vdb");
@@ -133,7 +168,7 @@ TEST(ShLightGridCli, BadInputGetsOneMessageAndNoOutput) {
   refuse("{\"lights\": [{\"vertices\": [[0,0,0],[1,0,0],[0,1,0]], \"colour\": 1}]}", box, "unknown key 'colour'");
   refuse("not json", box, "not valid JSON");
   refuse(kLights, "", "give the grid's box");
-  refuse(kLights, "--bbox 1,1,1,-1,-1,-1", "--bbox: every max must exceed its min");
+  refuse(kLights, "--bbox 1,1,1,-1,-1,-1", "--bbox: a max is below its min");
   refuse(kLights, box + " --res 1", "--res");
   const auto missing = runCommand(kLightGrid + " --lights " + quote(dir.path("none.json")) + " " + box + " -o " + quote(grid));
   EXPECT_NE(missing.status, 0);
