@@ -12,6 +12,9 @@
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 #include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/render/mesh_file.h"
+#include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
 #include "libvdbappear/version.h"
@@ -35,6 +38,8 @@ constexpr const char* kTool = "vdb_sh_lightgrid";
 constexpr const char* kExamples = R"(Examples:
   vdb_sh_lightgrid --lights lights.json --bbox -1,-1,-1,1,1,1 --res 8 -o lightgrid.vdb
   vdb_sh_lightgrid --lights lights.json --medium cloud.vdb --voxel-size 0.25 -o lightgrid.vdb --report r.json
+  vdb_sh_lightgrid --scene scene.json -o lightgrid.vdb     the scene's area lights, over its medium
+  vdb_render --scene scene.json --sh-lightgrid lightgrid.vdb -o image.exr
   vdb_sh_lightgrid --lights lights.json --bbox -1,-1,-1,1,1,1 --res 4 --levels 3 -o adaptive.vdb   finer near lights
   vdb_sh_lightgrid --lights lights.json --lmax 8 --probe 0,0,0.5 --json      analytic, no grid
   vdb_sh_lightgrid --grid lightgrid.vdb --probe 0,0,0.5 --interp trilinear --json
@@ -48,7 +53,7 @@ gradients, computed analytically (Eq. 5.23-5.32). Nodes: --res along the longest
 at equal spacing on all axes; with --levels, cells split where the lighting varies fast. docs/sh_lightgrid.md and docs/medium.md §11 describe the file.)";
 
 struct Options {
-  std::string lights_file, grid_file, output, report, medium, points_file, interp = "hermite";
+  std::string lights_file, grid_file, output, report, medium, scene, points_file, interp = "hermite";
   std::optional<std::vector<double>> bbox, probe;
   int lmax = 8, res = 8;
   double voxel_size = 0;
@@ -142,19 +147,44 @@ int probeGrid(const Options& o) {
   return 0;
 }
 
-// The grid's box: --bbox, or the bounds of --medium's density.
+// The bounds of a scene file's medium, or else of its meshes (lights and the ground bound nothing).
+Aabb sceneBounds(const std::string& scene_file) {
+  const SceneDescription scene = readSceneFile(scene_file);
+  if (!scene.medium.empty()) return MediumView(readMedium(scene.medium), Interpolation::kNearest).worldBounds();
+  Aabb bounds;
+  for (const MeshDescription& mesh : scene.meshes)
+    for (const Triangle& t : readMesh(mesh.file))
+      for (const Vec3& v : t) bounds.extend(v);
+  if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the scene has no medium or mesh to bound the grid: give --bbox", scene_file));
+  return bounds;
+}
+
+// The grid's box: --bbox, or the bounds of --medium's density, or of --scene.
 void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
   if (o.bbox) {
     *lo = vec3(*o.bbox, 0);
     *hi = vec3(*o.bbox, 3);
   } else {
-    const Aabb bounds = MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds();
-    if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the medium has no active voxels: give --bbox", o.medium));
+    const Aabb bounds = o.scene.empty() ? MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds() : sceneBounds(o.scene);
+    if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the medium has no active voxels: give --bbox", o.scene.empty() ? o.medium : o.scene));
     *lo = bounds.lo;
     *hi = bounds.hi;
   }
   if (!((*hi - *lo).array() >= 0).all() || !((*hi - *lo).maxCoeff() > 0))
     throw std::invalid_argument("--bbox: a max is below its min, or the box is a point");
+}
+
+// --lights, or the area lights of --scene.
+std::vector<PolygonLight> gridLights(const Options& o) {
+  if (!o.lights_file.empty()) return readLightList(o.lights_file);
+  std::vector<PolygonLight> lights;
+  try {
+    lights = sceneAreaLights(readSceneFile(o.scene));
+  } catch (const std::runtime_error& e) {
+    throw MediumError(fmt::format("{}: {}", o.scene, e.what()));
+  }
+  if (lights.empty()) throw MediumError(fmt::format("{}: the scene has no area lights (quad, polygon, triangle): give --lights", o.scene));
+  return lights;
 }
 
 std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::vector<PolygonLight>& lights, nlohmann::json* report) {
@@ -179,8 +209,8 @@ std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::ve
 }
 
 int buildGrid(const Options& o, const std::string& history) {
-  tool::checkOutputs(o.lights_file, o.output, o.report);
-  const std::vector<PolygonLight> lights = readLightList(o.lights_file);
+  tool::checkOutputs(o.lights_file.empty() ? o.scene : o.lights_file, o.output, o.report);
+  const std::vector<PolygonLight> lights = gridLights(o);
   nlohmann::json report = {{"tool", kTool}, {"version", kVersion}, {"lights", lights.size()}, {"lmax", o.lmax},
                            {"coefficients", shCount(o.lmax)}};
   Stopwatch clock;
@@ -232,7 +262,14 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   auto* bbox = app.add_option("--bbox", o.bbox, "box of the grid: xmin,ymin,zmin,xmax,ymax,zmax")->delimiter(',')->expected(6);
-  app.add_option("--medium", o.medium, "box of the grid: the bounds of this medium's density")->check(CLI::ExistingFile)->excludes(bbox);
+  auto* medium = app.add_option("--medium", o.medium, "box of the grid: the bounds of this medium's density")
+                     ->check(CLI::ExistingFile)
+                     ->excludes(bbox);
+  app.add_option("--scene", o.scene,
+                 "a vdb_render scene file: its area lights (unless --lights) and its box (the bounds of its medium, or "
+                 "of its meshes; unless --bbox)")
+      ->check(CLI::ExistingFile)
+      ->excludes(medium);
   auto* probe = app.add_option("--probe", o.probe, "print the coefficients at X,Y,Z (analytic with --lights, interpolated with --grid)")
                     ->delimiter(',')
                     ->expected(3);
@@ -256,9 +293,9 @@ int main(int argc, char** argv) {
       return probeLights(o);
     }
     if (o.json) throw std::invalid_argument("--json is for --probe");
-    if (o.lights_file.empty()) throw std::invalid_argument("give --lights FILE (and -o GRID.vdb), or --probe X,Y,Z");
+    if (o.lights_file.empty() && o.scene.empty()) throw std::invalid_argument("give --lights FILE or --scene FILE (and -o GRID.vdb), or --probe X,Y,Z");
     if (o.output.empty()) throw std::invalid_argument("give -o GRID.vdb for the grid (or --probe X,Y,Z)");
-    if (!o.bbox && o.medium.empty()) throw std::invalid_argument("give the grid's box: --bbox or --medium");
+    if (!o.bbox && o.medium.empty() && o.scene.empty()) throw std::invalid_argument("give the grid's box: --bbox, --medium or --scene");
     return buildGrid(o, history);
   });
 }

@@ -169,6 +169,25 @@ SceneDescription readSceneFile(const std::string& path) {
 
 namespace {
 
+bool isAreaLight(const json& light) {
+  const std::string type = light["type"];
+  return type == "quad" || type == "polygon" || type == "triangle";
+}
+
+// The polygon of a quad ({corner, edge1, edge2}: counter-clockwise corner, +e1, +e1+e2, +e2) or of
+// a polygon or triangle light (its vertices).
+std::vector<Vec3> areaLightVertices(const json& light) {
+  const std::string source = "light";
+  if (light["type"] == "quad") {
+    const Vec3 corner = vec3Of(light.at("corner"), source, "corner");
+    const Vec3 e1 = vec3Of(light.at("edge1"), source, "edge1"), e2 = vec3Of(light.at("edge2"), source, "edge2");
+    return {corner, corner + e1, corner + e1 + e2, corner + e2};
+  }
+  std::vector<Vec3> vertices;
+  for (const auto& v : light.at("vertices")) vertices.push_back(vec3Of(v, source, "vertices"));
+  return vertices;
+}
+
 std::unique_ptr<Light> makeLight(const json& light, const ImageReader& read_image, std::vector<Triangle>* triangles) {
   const std::string type = light["type"];
   const std::string source = "light";
@@ -184,15 +203,7 @@ std::unique_ptr<Light> makeLight(const json& light, const ImageReader& read_imag
   if (type == "point")
     return std::make_unique<PointLight>(vec3Of(light.at("position"), source, "position"),
                                         rgbOf(light.value("intensity", json(1.0)), source, "intensity"));
-  std::vector<Vec3> vertices;
-  if (type == "quad") {
-    const Vec3 corner = vec3Of(light.at("corner"), source, "corner");
-    const Vec3 e1 = vec3Of(light.at("edge1"), source, "edge1"), e2 = vec3Of(light.at("edge2"), source, "edge2");
-    vertices = {corner, corner + e1, corner + e1 + e2, corner + e2};
-  } else {
-    for (const auto& v : light.at("vertices")) vertices.push_back(vec3Of(v, source, "vertices"));
-  }
-  *triangles = AreaLight::fanTriangulate(vertices);
+  *triangles = AreaLight::fanTriangulate(areaLightVertices(light));
   return std::make_unique<AreaLight>(*triangles, rgbOf(light.value("radiance", json(1.0)), source, "radiance"),
                                      light.value("two_sided", false));
 }
@@ -252,6 +263,26 @@ CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium) {
     return framedView(medium->worldBounds(), scene.view.value_or("+z"), scene.camera.fov_degrees, aspect);
   }
   return scene.camera;
+}
+
+std::vector<PolygonLight> sceneAreaLights(const SceneDescription& scene) {
+  std::vector<PolygonLight> lights;
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const json& light = scene.lights[i];
+    if (!isAreaLight(light)) continue;
+    const std::string where = fmt::format("lights[{}]", i);
+    try {
+      const Rgb radiance = rgbOf(light.value("radiance", json(1.0)), where, "radiance");
+      PolygonLight polygon{areaLightVertices(light), radiance.matrix(), light.value("two_sided", false)};
+      validatePolygonLight(polygon, where);
+      lights.push_back(std::move(polygon));
+    } catch (const nlohmann::json::exception& e) {
+      throw std::runtime_error(fmt::format("{}: {}", where, e.what()));
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(e.what());
+    }
+  }
+  return lights;
 }
 
 }  // namespace vdbappear

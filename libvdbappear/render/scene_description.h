@@ -11,6 +11,7 @@
 //   {"type": "polygon", "vertices": [p0, p1, ...], "radiance": L, "two_sided": false}
 
 #include "libvdbappear/image/rgb_image.h"
+#include "libvdbappear/lightgrid/polygon_light.h"
 #include "libvdbappear/medium/interpolation.h"
 #include "libvdbappear/render/camera.h"
 #include "libvdbappear/render/render_image.h"
@@ -60,5 +61,10 @@ using ImageReader = std::function<RgbImage(const std::string&)>;
 RenderScene buildRenderScene(const SceneDescription& scene, std::shared_ptr<const MediumView> medium,
                              const ImageReader& read_image);
 CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium);
+
+// The scene's area lights (quad, polygon, triangle) as polygons, in file order, each checked by
+// validatePolygonLight: what `vdb_sh_lightgrid --scene` prefilters and what `vdb_render
+// --sh-lightgrid` then stops sampling. Throws std::runtime_error "lights[K]: what is wrong".
+std::vector<PolygonLight> sceneAreaLights(const SceneDescription& scene);
 
 }  // namespace vdbappear

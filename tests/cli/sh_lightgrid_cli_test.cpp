@@ -150,6 +150,42 @@ TEST(ShLightGridCli, AdaptiveGridRoundTrips) {
   }
 }
 
+// --scene: the area lights of a vdb_render scene file (a quad and a polygon; its sun is not an area
+// light) over the bounds of its medium give the same grid as the same lights given by --lights over
+// --medium.
+TEST(ShLightGridCli, SceneFileGivesTheAreaLightsAndTheMediumsBox) {
+  TempDir dir;
+  const std::string medium = std::string(GOLDEN_DIR) + "/cube8.vdb";
+  const std::string scene = writeFile(dir, "scene.json", "{\"medium\": " + json(medium).dump() + R"(, "lights": [
+    {"type": "quad", "corner": [-1,-1,1.5], "edge1": [0,2,0], "edge2": [2,0,0], "radiance": [1,0.5,0.25]},
+    {"type": "sun", "direction": [0,0,-1]},
+    {"type": "polygon", "vertices": [[2,0,0],[2,1,0],[2,0,1]], "radiance": 3, "two_sided": true}]})");
+  const std::string lights = writeFile(dir, "lights.json", kLights);
+  const std::string from_scene = dir.path("scene.vdb"), from_files = dir.path("files.vdb");
+  const auto a = runCommand(kLightGrid + " --scene " + quote(scene) + " --res 4 --lmax 3 -o " + quote(from_scene) + " --report " +
+                            quote(dir.path("a.json")));
+  const auto b = runCommand(kLightGrid + " --lights " + quote(lights) + " --medium " + quote(medium) + " --res 4 --lmax 3 -o " +
+                            quote(from_files) + " --report " + quote(dir.path("b.json")));
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  const json ra = json::parse(std::ifstream(dir.path("a.json"))), rb = json::parse(std::ifstream(dir.path("b.json")));
+  EXPECT_EQ(ra.at("lights"), 2);
+  EXPECT_EQ(ra.at("origin"), rb.at("origin"));
+  EXPECT_EQ(ra.at("finest_spacing"), rb.at("finest_spacing"));
+  const auto probe = [&](const std::string& grid) {
+    const auto r = runCommand(kLightGrid + " --grid " + quote(grid) + " --probe 0.1,-0.2,0.3 --json");
+    EXPECT_EQ(r.status, 0) << r.err;
+    return json::parse(r.out).at("coeffs");
+  };
+  const json ca = probe(from_scene), cb = probe(from_files);
+  EXPECT_EQ(ca, cb);
+  EXPECT_GT(ca[0][0].get<double>(), 0.0);
+  // --bbox overrides the scene's box, --lights its lights.
+  const auto c = runCommand(kLightGrid + " --scene " + quote(scene) + " --bbox -1,-1,-1,1,1,1 --lights " + quote(lights) +
+                            " --res 4 --lmax 3 -o " + quote(dir.path("c.vdb")));
+  EXPECT_EQ(c.status, 0) << c.err;
+}
+
 TEST(ShLightGridCli, BadInputGetsOneMessageAndNoOutput) {
   TempDir dir;
   const std::string grid = dir.path("grid.vdb");
@@ -167,12 +203,26 @@ TEST(ShLightGridCli, BadInputGetsOneMessageAndNoOutput) {
   refuse("{\"lights\": [{\"vertices\": [[0,0,0],[1,0,0],[0,1,0]], \"radiance\": -1}]}", box, "radiance must be finite and >= 0");
   refuse("{\"lights\": [{\"vertices\": [[0,0,0],[1,0,0],[0,1,0]], \"colour\": 1}]}", box, "unknown key 'colour'");
   refuse("not json", box, "not valid JSON");
-  refuse(kLights, "", "give the grid's box");
+  refuse(kLights, "", "give the grid's box: --bbox, --medium or --scene");
   refuse(kLights, "--bbox 1,1,1,-1,-1,-1", "--bbox: a max is below its min");
   refuse(kLights, box + " --res 1", "--res");
   const auto missing = runCommand(kLightGrid + " --lights " + quote(dir.path("none.json")) + " " + box + " -o " + quote(grid));
   EXPECT_NE(missing.status, 0);
   EXPECT_NE(missing.err.find("none.json: cannot open the lights file"), std::string::npos) << missing.err;
+  // Scenes without a box or without area lights.
+  const std::string no_box = writeFile(dir, "nobox.json", R"({"lights": [{"type": "polygon", "vertices": [[0,0,1],[1,0,1],[0,1,1]]}], "ground": {}})");
+  const auto unbounded = runCommand(kLightGrid + " --scene " + quote(no_box) + " -o " + quote(grid));
+  EXPECT_NE(unbounded.status, 0);
+  EXPECT_NE(unbounded.err.find("nobox.json: the scene has no medium or mesh to bound the grid: give --bbox"), std::string::npos) << unbounded.err;
+  const std::string no_lights = writeFile(dir, "nolights.json", R"({"lights": [{"type": "sun", "direction": [0,0,-1]}]})");
+  const auto dark = runCommand(kLightGrid + " --scene " + quote(no_lights) + " " + box + " -o " + quote(grid));
+  EXPECT_NE(dark.status, 0);
+  EXPECT_NE(dark.err.find("nolights.json: the scene has no area lights"), std::string::npos) << dark.err;
+  const std::string flat = writeFile(dir, "flat.json", R"({"lights": [{"type": "polygon", "vertices": [[0,0,1],[1,0,1],[2,0,1]]}]})");
+  const auto degenerate = runCommand(kLightGrid + " --scene " + quote(flat) + " " + box + " -o " + quote(grid));
+  EXPECT_NE(degenerate.status, 0);
+  EXPECT_NE(degenerate.err.find("flat.json: lights[0]:"), std::string::npos) << degenerate.err;
+  EXPECT_FALSE(std::filesystem::exists(grid));
   // A medium file is not an SH light grid.
   const std::string not_grid = writeFile(dir, "x.vdb", "not a vdb");
   const auto r = runCommand(kLightGrid + " --grid " + quote(not_grid) + " --probe 0,0,0");
