@@ -3,6 +3,7 @@
 #include "libvdbappear/math/henyey_greenstein.h"
 #include "libvdbappear/math/sampling.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -25,6 +26,12 @@ PhaseSample PhaseLobe::sample(const Vec3& wi, const Point2& u) const {
     case PhaseKind::kTabulated: return table->sample(wi, u);
   }
   return {};
+}
+
+double PhaseLobe::legendreMoment(int l) const {
+  if (kind == PhaseKind::kIsotropic) return l == 0 ? 1.0 : 0.0;
+  if (kind == PhaseKind::kHenyeyGreenstein) return std::pow(g, l);
+  throw std::logic_error("PhaseLobe::legendreMoment: no closed form for SGGX lobes and tables");
 }
 
 void ScatteringFunction::addLobe(const PhaseLobe& lobe, const Rgb& weight) {

@@ -25,6 +25,12 @@ struct PhaseLobe {
 
   double eval(const Vec3& wi, const Vec3& wo) const;  // also the pdf of sample()
   PhaseSample sample(const Vec3& wi, const Point2& u) const;
+
+  // Legendre moments f_l = 2 pi int p(mu) P_l(mu) dmu (similarity paper, Eq. 8) in closed form:
+  // isotropic (1, 0, 0, ...) and HG (g^l). SGGX lobes depend on more than mu and tables have no
+  // closed form: hasClosedFormMoments() is false for them and legendreMoment() must not be called.
+  bool hasClosedFormMoments() const { return kind == PhaseKind::kIsotropic || kind == PhaseKind::kHenyeyGreenstein; }
+  double legendreMoment(int l) const;
 };
 
 // A sampled scattering direction: weight = f_s / pdf (RGB), including the albedo.
@@ -40,6 +46,8 @@ class ScatteringFunction {
 
   void addLobe(const PhaseLobe& lobe, const Rgb& weight);
   int lobeCount() const { return lobe_count_; }
+  const PhaseLobe& lobe(int j) const { return lobes_[j]; }
+  const Rgb& weight(int j) const { return weights_[j]; }  // W_j
   Rgb albedo() const;  // sum_j W_j
 
   Rgb eval(const Vec3& wi, const Vec3& wo) const;  // f_s, RGB

@@ -78,13 +78,15 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, Medi
   return L;
 }
 
-// The area lights' direct light from the SH grid, unshadowed (dissertation ch. 5): on a diffuse
-// surface the irradiance E(n) in closed form (Funk-Hecke), so albedo E / pi with no variance; in the
-// medium one direction sampled from the scattering function, weight f / pdf times the SH radiance.
+// The area lights' direct light from the SH grid, unshadowed (dissertation ch. 5), by Funk-Hecke
+// where it has a closed form, so with no variance: on a diffuse surface albedo E(n) / pi; in a
+// medium of isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables) one
+// direction sampled from the scattering function, weight f / pdf times the SH radiance.
 Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng) const {
   const ShGridLookup& grid = *scene_.sh_lights;
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
   if (vertex.on_surface) return vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
+  if (const std::optional<Rgb> L = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) return *L;
   const ScatterSample s = vertex.sample(rng);
   if (!(s.pdf > 0)) return Rgb::Zero();
   return s.weight * incidentRadiance(coeffs, grid.lmax(), s.wo).array();
