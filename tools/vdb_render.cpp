@@ -38,7 +38,7 @@ struct Flags {
   double fov = 30, time = 0, ground_height = 0;
   int spp = 16, max_depth = -1;
   std::uint64_t seed = 0;
-  bool ground = false, verbose = false, no_sggx = false;
+  bool ground = false, verbose = false, no_sggx = false, sh_unshadowed = false;
 };
 
 Vec3 vec3Of(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
@@ -153,9 +153,10 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
   app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
   app.add_option("--sh-lightgrid", f.sh_lightgrid,
-                 "direct light of the area lights from this SH light grid (vdb_sh_lightgrid), unshadowed, instead of "
-                 "sampling every area light")
+                 "direct light of the area lights from this SH light grid (vdb_sh_lightgrid) instead of sampling every "
+                 "area light; shadowed by the medium toward the grid's dominant direction")
       ->check(CLI::ExistingFile);
+  app.add_flag("--sh-unshadowed", f.sh_unshadowed, "with --sh-lightgrid: no shadows at all (the dissertation's unshadowed lighting)");
   app.add_option("--sh-interp", f.sh_interp, "SH grid interpolation: hermite (default), trilinear or taylor")
       ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}));
   app.add_option("--aov", f.aovs, "extra EXR channels: alpha, variance, cluster (docs/rendering.md)")->delimiter(',');
@@ -223,6 +224,7 @@ int main(int argc, char** argv) {
       render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear
                                       : flags.sh_interp == "taylor"  ? CellInterpolation::kTaylor
                                                                      : CellInterpolation::kHermite;
+      render_scene.sh_shadows = !flags.sh_unshadowed;
     }
     const CameraPose pose = cameraOf(scene, medium.get());
     const PinholeCamera camera(pose, scene.render.width, scene.render.height);
@@ -232,7 +234,8 @@ int main(int argc, char** argv) {
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
     writeRenderOutputs(result, outputs);
     nlohmann::json report = reportOf(scene, pose, result, medium.get());
-    if (render_scene.sh_lights) report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}};
+    if (render_scene.sh_lights)
+      report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}, {"shadows", render_scene.sh_shadows}};
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
     if (flags.verbose)
       fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",

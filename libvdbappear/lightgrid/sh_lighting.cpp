@@ -4,6 +4,8 @@
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 
+#include <cmath>
+
 namespace vdbappear {
 
 ShLighting shLighting(const std::vector<PolygonLight>& lights, const Vec3& x, const ZonalFactorisation& zh) {
@@ -19,6 +21,13 @@ ShLighting shLighting(const std::vector<PolygonLight>& lights, const Vec3& x, co
     }
   }
   return sum;
+}
+
+Vec3 dominantDirection(const std::vector<Vec3>& coeffs) {
+  if (coeffs.size() < 4) return Vec3::Zero();
+  const Vec3 d(-coeffs[shIndex(1, 1)].mean(), -coeffs[shIndex(1, -1)].mean(), coeffs[shIndex(1, 0)].mean());
+  const double norm = d.norm();
+  return norm > 1e-9 * std::abs(coeffs[0].mean()) && norm > 0 ? Vec3(d / norm) : Vec3(Vec3::Zero());
 }
 
 Vec3 incidentRadiance(const std::vector<Vec3>& coeffs, int lmax, const Vec3& towards_light) {

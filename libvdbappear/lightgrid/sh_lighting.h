@@ -25,4 +25,10 @@ ShLighting shLighting(const std::vector<PolygonLight>& lights, const Vec3& x, co
 // reconstructed from the band-limited coefficients: L(x, w) = sum_i L_i Y_i(w).
 Vec3 incidentRadiance(const std::vector<Vec3>& coeffs, int lmax, const Vec3& towards_light);
 
+// The unit direction of the band-1 part of the radiance, integral of L(w) w dw averaged over the
+// channels: with the Condon-Shortley basis (docs/sh_lightgrid.md §1) it is proportional to
+// (-L_1,1, -L_1,-1, L_1,0). The zero vector when that part vanishes (lmax 0, or light from all
+// sides alike).
+Vec3 dominantDirection(const std::vector<Vec3>& coeffs);
+
 }  // namespace vdbappear

@@ -22,6 +22,10 @@ struct RenderScene {
   // instead of next-event estimation of every area light. The area lights stay visible to camera rays.
   std::shared_ptr<const ShGridLookup> sh_lights;
   CellInterpolation sh_interpolation = CellInterpolation::kHermite;
+  // Attenuate the grid's light at each vertex by the medium's transmittance toward the grid's
+  // dominant direction there (one ratio-tracking ray, not one per light): an approximation of the
+  // shadows, exact for a small light seen through a medium (docs/sh_lightgrid.md §5).
+  bool sh_shadows = true;
 };
 
 }  // namespace vdbappear

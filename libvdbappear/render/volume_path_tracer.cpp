@@ -60,7 +60,7 @@ double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double dist
 // the pick: on the SGGX twill under a sun and a sky it cut the time to equal noise 1.46x
 // (scripts/bench_render.py). Scenes of many lights would want a pick again.
 Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
-  Rgb L = scene_.sh_lights ? shGridDirect(vertex, rng) : Rgb(Rgb::Zero());
+  Rgb L = scene_.sh_lights ? shGridDirect(vertex, rng, lookup) : Rgb(Rgb::Zero());
   for (const auto& light : scene_.lights) {
     const Point2 u = rng.uniform2();  // drawn for every light, so streams stay aligned
     if (!light->isDelta() && settings_.strategy == LightStrategy::kPhaseOnly) continue;
@@ -78,18 +78,27 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, Medi
   return L;
 }
 
-// The area lights' direct light from the SH grid, unshadowed (dissertation ch. 5), by Funk-Hecke
-// where it has a closed form, so with no variance: on a diffuse surface albedo E(n) / pi; in a
-// medium of isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables) one
-// direction sampled from the scattering function, weight f / pdf times the SH radiance.
-Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng) const {
+// The area lights' direct light from the SH grid (dissertation ch. 5), by Funk-Hecke where it has
+// a closed form, so with no variance: on a diffuse surface albedo E(n) / pi; in a medium of
+// isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables) one direction
+// sampled from the scattering function, weight f / pdf times the SH radiance. With sh_shadows, times
+// the medium's transmittance toward the grid's dominant direction (surfaces do not shadow it).
+Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
   const ShGridLookup& grid = *scene_.sh_lights;
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
-  if (vertex.on_surface) return vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
-  if (const std::optional<Rgb> L = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) return *L;
-  const ScatterSample s = vertex.sample(rng);
-  if (!(s.pdf > 0)) return Rgb::Zero();
-  return s.weight * incidentRadiance(coeffs, grid.lmax(), s.wo).array();
+  Rgb L;
+  if (vertex.on_surface) {
+    L = vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
+  } else if (const std::optional<Rgb> closed_form = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
+    L = *closed_form;
+  } else {
+    const ScatterSample s = vertex.sample(rng);
+    if (!(s.pdf > 0)) return Rgb::Zero();
+    L = s.weight * incidentRadiance(coeffs, grid.lmax(), s.wo).array();
+  }
+  if (!scene_.sh_shadows || !lookup || (L == 0).all()) return L;
+  const Vec3 towards_light = dominantDirection(coeffs);
+  return towards_light.isZero() ? L : Rgb(L * lookup->transmittance(vertex.origin(), towards_light, kInfinity, rng));
 }
 
 // Radiance of the environment lights along a ray that left the scene.

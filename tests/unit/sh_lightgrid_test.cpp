@@ -10,6 +10,7 @@
 #include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/lightgrid/zonal_factorisation.h"
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/frame.h"
 #include "libvdbappear/math/legendre.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 #include "libvdbappear/medium/scattering_function.h"
@@ -20,6 +21,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace vdbappear {
@@ -285,6 +287,24 @@ TEST(ShIrradiance, ApproachesTheExactIrradianceOfAPolygon) {
       const double E = shIrradiance(sh.coeffs, kLmax, n).x();
       EXPECT_NEAR(E, exact, 0.015 * exact) << "height " << height << " offset " << offset;
     }
+}
+
+// The direction vdb_render's SH shadows are traced along: a small light seen from a point lies in
+// its dominant direction (to within the light's angular radius), for lights on every side, which
+// checks the signs of the band-1 basis (Condon-Shortley); no band 1 (lmax 0) gives none.
+TEST(ShLighting, DominantDirectionPointsAtASmallLight) {
+  test::TestRandom random(8);
+  for (int k = 0; k < 12; ++k) {
+    const Vec3 towards = random.direction(), centre = 3 * towards;
+    const Frame frame = Frame::fromNormal(-towards);  // the light faces the origin
+    const double r = 0.1;                             // angular radius about 0.033 rad
+    PolygonLight light{{centre + r * (-frame.s - frame.t), centre + r * (frame.s - frame.t), centre + r * (frame.s + frame.t),
+                        centre + r * (-frame.s + frame.t)}};
+    if (light.normal().dot(towards) > 0) std::reverse(light.vertices.begin(), light.vertices.end());
+    const ShLighting sh = shLighting({light}, Vec3::Zero(), zh8());
+    EXPECT_GT(dominantDirection(sh.coeffs).dot(towards), std::cos(0.04)) << towards.transpose();
+  }
+  EXPECT_TRUE(dominantDirection(std::vector<Vec3>{Vec3(1, 1, 1)}).isZero());
 }
 
 // Single scattering of SH light in a medium (vdb_render --sh-lightgrid): the Funk-Hecke closed form
