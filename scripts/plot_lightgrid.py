@@ -30,6 +30,9 @@ def main():
         pts = sorted((r["lights"], r["ms"]) for r in rows if r["benchmark"] == name)
         cost.plot([p[0] for p in pts], [p[1] for p in pts], style, label={"EvaluateGrid": "evaluate 8^3 grid",
                   "InterpolateHermite": "interpolate 1M points (Hermite)", "InterpolateTrilinear": "interpolate 1M points (trilinear)"}[name])
+    analytic = sorted((r["lights"], r["ms"] / r["points"] * 1e6) for r in rows if r["benchmark"] == "AnalyticPerPoint")
+    if analytic:
+        cost.plot([p[0] for p in analytic], [p[1] for p in analytic], "x:", label="analytic SH at 1M points (from the timed subset)")
     cost.set(xscale="log", yscale="log", xlabel="triangle lights", ylabel="ms", title="cost against the number of lights")
     cost.legend(fontsize=7)
     fig.tight_layout()
