@@ -88,6 +88,8 @@ std::shared_ptr<const ShGridLookup> readShLightGrid(const std::string& path) {
   }
   const auto int_meta = [&](const char* name, std::optional<int> fallback) {
     const auto meta = metadata->getMetadata<openvdb::Int32Metadata>(name);
+    if (!meta && (*metadata)[name])
+      throw MediumError(fmt::format("{}: '{}' metadata is {}, expected int32", path, name, (*metadata)[name]->typeName()));
     if (!meta && !fallback) throw MediumError(fmt::format("{}: no '{}' metadata: not an SH light grid (vdb_sh_lightgrid writes them)", path, name));
     return meta ? meta->value() : *fallback;
   };
@@ -109,9 +111,13 @@ std::shared_ptr<const ShGridLookup> readShLightGrid(const std::string& path) {
   }
   const openvdb::Vec3SGrid& first = *ordered[0];
   const openvdb::Vec3d origin = first.transform().indexToWorld(openvdb::Vec3d(0)), step = first.voxelSize();
-  if (!first.transform().baseMap()->isLinear() || std::abs(step.x() - step.y()) > 1e-9 * step.x() ||
+  const auto map = first.transform().baseMap();
+  if (!map->isLinear() || !map->getAffineMap()->isScaleTranslate() || std::abs(step.x() - step.y()) > 1e-9 * step.x() ||
       std::abs(step.x() - step.z()) > 1e-9 * step.x())
     throw MediumError(fmt::format("{}: grid '{}': expected a uniform scale-and-translate transform", path, names[0]));
+  for (std::size_t g = 1; g < ordered.size(); ++g)
+    if (ordered[g]->transform() != first.transform())
+      throw MediumError(fmt::format("{}: grid '{}': its transform differs from '{}'", path, names[g], names[0]));
   if (first.empty()) throw MediumError(fmt::format("{}: grid '{}' has no nodes", path, names[0]));
   // The nodes: the active voxels of sh_0; every other grid has the same.
   std::vector<std::pair<LatticeIndex, ShLighting>> nodes;

@@ -155,6 +155,10 @@ AdaptiveShGrid AdaptiveShGrid::build(const std::vector<PolygonLight>& lights, in
 }
 
 void AdaptiveShGrid::interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const {
+  if (!x.allFinite()) {
+    out.assign(shCount(lmax_), Vec3::Zero());
+    return;
+  }
   // The base cell holding x (clamped into the box), then down the split cells.
   const Vec3 local = (x - origin_) / base_spacing_;
   Cell cell{0, 0, 0, 0};
@@ -241,6 +245,10 @@ AdaptiveShGrid AdaptiveShGrid::fromNodes(int lmax, const ShLattice& lattice, std
     if (top[a] % step != 0 || top[a] == 0) throw std::invalid_argument("adaptive SH grid: the nodes do not end on a base node");
     grid.base_cells_[a] = int(top[a] / step);
   }
+  // Every base node must be present: fewer nodes than that cannot make a grid (and a hand-made file
+  // with two far-apart nodes must not make us list a huge number of base cells).
+  if (double(grid.base_cells_[0] + 1) * (grid.base_cells_[1] + 1) * (grid.base_cells_[2] + 1) > double(nodes.size()))
+    throw std::invalid_argument("adaptive SH grid: fewer nodes than base nodes (a base node is missing)");
   grid.nodes_.reserve(nodes.size());
   for (auto& [at, node] : nodes) {
     grid.node_index_[grid.nodeKey(lattice.levels, at[0], at[1], at[2])] = std::uint32_t(grid.nodes_.size());

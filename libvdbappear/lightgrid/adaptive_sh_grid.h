@@ -45,6 +45,9 @@ class AdaptiveShGrid final : public ShGridLookup {
   std::size_t cellCount(int level) const;  // leaf and split cells at that level
   int levels() const { return int(cells_per_level_.size()); }
 
+  bool contains(const Vec3& x) const override {
+    return insideCellBox((x - origin_) / base_spacing_, Vec3(base_cells_[0], base_cells_[1], base_cells_[2]));
+  }
   using ShGridLookup::interpolate;
   void interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const override;
   ShLattice lattice() const override;

@@ -23,12 +23,22 @@ struct ShLattice {
 };
 using LatticeIndex = std::array<std::int64_t, 3>;
 
+// Whether a point at `local` (in units of a cell, from the box's corner) lies in [0, upper] on every
+// axis, to a relative 1e-9; false for non-finite points.
+inline bool insideCellBox(const Vec3& local, const Vec3& upper) {
+  const Vec3 slack = 1e-9 * (upper.array() + 1).matrix();
+  return ((local + slack).array() >= 0).all() && ((local - slack).array() <= upper.array()).all();
+}
+
 class ShGridLookup {
  public:
   virtual ~ShGridLookup() = default;
   virtual int lmax() const = 0;
   virtual std::size_t nodeCount() const = 0;
-  // The RGB coefficients (index l (l + 1) + m) at x, clamped into the grid's box, into `out`.
+  // Whether x lies in the grid's box (its outer nodes), to rounding; false for non-finite x.
+  virtual bool contains(const Vec3& x) const = 0;
+  // The RGB coefficients (index l (l + 1) + m) at x, clamped into the grid's box, into `out`;
+  // zeros for non-finite x.
   virtual void interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const = 0;
   virtual ShLattice lattice() const = 0;
   virtual void forEachNode(const std::function<void(const LatticeIndex&, const ShLighting&)>& visit) const = 0;

@@ -22,13 +22,19 @@ ShGridLayout ShGridLayout::covering(const Vec3& lo, const Vec3& hi, int resoluti
 ShGridLayout ShGridLayout::withSpacing(const Vec3& lo, const Vec3& hi, double spacing) {
   if (!(spacing > 0)) throw std::invalid_argument("SH light grid: the voxel size must be > 0");
   if (!((hi - lo).array() >= 0).all()) throw std::invalid_argument("SH light grid: the bounding box is empty");
+  if (!lo.allFinite() || !hi.allFinite() || !std::isfinite(spacing))
+    throw std::invalid_argument("SH light grid: the bounding box and the voxel size must be finite");
   ShGridLayout layout;
   layout.origin = lo;
   layout.spacing = spacing;
-  for (int axis = 0; axis < 3; ++axis)
-    layout.nodes[axis] = std::max(2, int(std::ceil((hi[axis] - lo[axis]) / spacing - 1e-9)) + 1);
-  if (double(layout.nodes.x()) * layout.nodes.y() * layout.nodes.z() > 1e8)
-    throw std::invalid_argument("SH light grid: more than 1e8 nodes; use a coarser resolution");
+  double count = 1;
+  Vec3 nodes;
+  for (int axis = 0; axis < 3; ++axis) {
+    nodes[axis] = std::max(2.0, std::ceil((hi[axis] - lo[axis]) / spacing - 1e-9) + 1);
+    count *= nodes[axis];
+  }
+  if (count > 1e8) throw std::invalid_argument("SH light grid: more than 1e8 nodes; use a coarser resolution");
+  layout.nodes = nodes.cast<int>();
   return layout;
 }
 
@@ -56,6 +62,10 @@ ShLightGrid ShLightGrid::evaluate(const std::vector<PolygonLight>& lights, const
 }
 
 void ShLightGrid::interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const {
+  if (!x.allFinite()) {
+    out.assign(shCount(lmax_), Vec3::Zero());
+    return;
+  }
   // The cell holding x, and x relative to its corner 0.
   const Vec3 local = (x - layout_.origin) / layout_.spacing;
   Eigen::Vector3i cell;

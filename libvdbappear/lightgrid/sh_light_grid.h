@@ -45,6 +45,9 @@ class ShLightGrid final : public ShGridLookup {
   ShLighting& node(int i, int j, int k) { return nodes_[index(i, j, k)]; }
   const ShLighting& node(int i, int j, int k) const { return nodes_[index(i, j, k)]; }
 
+  bool contains(const Vec3& x) const override {
+    return insideCellBox((x - layout_.origin) / layout_.spacing, (layout_.nodes.array() - 1).cast<double>().matrix());
+  }
   using ShGridLookup::interpolate;
   void interpolate(const Vec3& x, CellInterpolation method, std::vector<Vec3>& out) const override;
   ShLattice lattice() const override { return {layout_.origin, layout_.spacing, 0}; }
