@@ -21,7 +21,10 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -84,7 +87,10 @@ nlohmann::json gradientsJson(const std::vector<Mat3>& gradients) {
 
 // The points to probe: --probe X,Y,Z, or --probe-points FILE with one "x y z" (or x,y,z) per line.
 std::vector<Vec3> probePoints(const Options& o) {
-  if (o.probe) return {vec3(*o.probe)};
+  if (o.probe) {
+    if (!vec3(*o.probe).allFinite()) throw std::invalid_argument("--probe: X,Y,Z must be finite numbers");
+    return {vec3(*o.probe)};
+  }
   std::ifstream file_stream;
   if (o.points_file != "-") {
     file_stream.open(o.points_file);
@@ -170,6 +176,7 @@ void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
     *lo = bounds.lo;
     *hi = bounds.hi;
   }
+  if (!lo->allFinite() || !hi->allFinite()) throw std::invalid_argument("--bbox: the box must be finite");
   if (!((*hi - *lo).array() >= 0).all() || !((*hi - *lo).maxCoeff() > 0))
     throw std::invalid_argument("--bbox: a max is below its min, or the box is a point");
 }
@@ -177,14 +184,30 @@ void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
 // --lights, or the area lights of --scene.
 std::vector<PolygonLight> gridLights(const Options& o) {
   if (!o.lights_file.empty()) return readLightList(o.lights_file);
+  const SceneDescription scene = readSceneFile(o.scene);  // its errors name the file
   std::vector<PolygonLight> lights;
   try {
-    lights = sceneAreaLights(readSceneFile(o.scene));
+    lights = sceneAreaLights(scene);
   } catch (const std::runtime_error& e) {
     throw MediumError(fmt::format("{}: {}", o.scene, e.what()));
   }
   if (lights.empty()) throw MediumError(fmt::format("{}: the scene has no area lights (quad, polygon, triangle): give --lights", o.scene));
   return lights;
+}
+
+// Memory a node takes while the grid is built and written: its coefficients and gradients in
+// double (ShLighting) and, while writing, their float copies in the VDB grids.
+double bytesPerNode(int lmax) { return shCount(lmax) * (3 + 9) * (sizeof(double) + sizeof(float)); }
+
+double physicalMemoryBytes() { return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)); }
+
+// A grid that cannot fit in memory fails here with a message, not later by the kernel's hand.
+void checkGridMemory(double nodes, int lmax) {
+  const double needed = nodes * bytesPerNode(lmax), available = physicalMemoryBytes();
+  if (available > 0 && needed > available)
+    throw std::invalid_argument(fmt::format("the grid needs about {:.1f} GB ({:.0f} nodes at lmax {}), more than this machine's "
+                                            "{:.1f} GB: use a coarser --res or --voxel-size, or a lower --lmax",
+                                            needed / 1e9, nodes, lmax, available / 1e9));
 }
 
 std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::vector<PolygonLight>& lights, nlohmann::json* report) {
@@ -193,6 +216,9 @@ std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::ve
   if (o.adaptive.max_level > 0) {
     AdaptiveGridOptions adaptive = o.adaptive;
     adaptive.base_resolution = o.res;
+    // The refinement budget, within half the machine's memory.
+    adaptive.max_nodes = std::min<double>(adaptive.max_nodes, std::max(8.0, 0.5 * physicalMemoryBytes() / bytesPerNode(o.lmax)));
+    checkGridMemory(std::pow(double(o.res), 3), o.lmax);
     ProgressBar progress("refining the adaptive grid", 0);
     auto grid = std::make_shared<AdaptiveShGrid>(AdaptiveShGrid::build(lights, o.lmax, lo, hi, adaptive, &progress));
     std::vector<std::size_t> cells;
@@ -201,6 +227,7 @@ std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::ve
     return grid;
   }
   const ShGridLayout layout = o.voxel_size > 0 ? ShGridLayout::withSpacing(lo, hi, o.voxel_size) : ShGridLayout::covering(lo, hi, o.res);
+  checkGridMemory(double(layout.count()), o.lmax);
   ProgressBar progress("evaluating SH at the nodes", layout.count());
   auto grid = std::make_shared<ShLightGrid>(ShLightGrid::evaluate(lights, o.lmax, layout, &progress));
   progress.finish();

@@ -176,15 +176,19 @@ bool isAreaLight(const json& light) {
 
 // The polygon of a quad ({corner, edge1, edge2}: counter-clockwise corner, +e1, +e1+e2, +e2) or of
 // a polygon or triangle light (its vertices).
-std::vector<Vec3> areaLightVertices(const json& light) {
-  const std::string source = "light";
+std::vector<Vec3> areaLightVertices(const json& light, const std::string& source) {
+  const auto required = [&](const char* key) -> const json& {
+    if (!light.contains(key)) fail(source, key, fmt::format("missing ({} lights need it)", light["type"].get<std::string>()));
+    return light[key];
+  };
   if (light["type"] == "quad") {
-    const Vec3 corner = vec3Of(light.at("corner"), source, "corner");
-    const Vec3 e1 = vec3Of(light.at("edge1"), source, "edge1"), e2 = vec3Of(light.at("edge2"), source, "edge2");
+    const Vec3 corner = vec3Of(required("corner"), source, "corner");
+    const Vec3 e1 = vec3Of(required("edge1"), source, "edge1"), e2 = vec3Of(required("edge2"), source, "edge2");
     return {corner, corner + e1, corner + e1 + e2, corner + e2};
   }
+  if (!required("vertices").is_array()) fail(source, "vertices", "expected [[x, y, z], ...]");
   std::vector<Vec3> vertices;
-  for (const auto& v : light.at("vertices")) vertices.push_back(vec3Of(v, source, "vertices"));
+  for (const auto& v : light["vertices"]) vertices.push_back(vec3Of(v, source, "vertices"));
   return vertices;
 }
 
@@ -203,7 +207,7 @@ std::unique_ptr<Light> makeLight(const json& light, const ImageReader& read_imag
   if (type == "point")
     return std::make_unique<PointLight>(vec3Of(light.at("position"), source, "position"),
                                         rgbOf(light.value("intensity", json(1.0)), source, "intensity"));
-  *triangles = AreaLight::fanTriangulate(areaLightVertices(light));
+  *triangles = AreaLight::fanTriangulate(areaLightVertices(light, source));
   return std::make_unique<AreaLight>(*triangles, rgbOf(light.value("radiance", json(1.0)), source, "radiance"),
                                      light.value("two_sided", false));
 }
@@ -273,7 +277,7 @@ std::vector<PolygonLight> sceneAreaLights(const SceneDescription& scene) {
     const std::string where = fmt::format("lights[{}]", i);
     try {
       const Rgb radiance = rgbOf(light.value("radiance", json(1.0)), where, "radiance");
-      PolygonLight polygon{areaLightVertices(light), radiance.matrix(), light.value("two_sided", false)};
+      PolygonLight polygon{areaLightVertices(light, where), radiance.matrix(), light.value("two_sided", false)};
       validatePolygonLight(polygon, where);
       lights.push_back(std::move(polygon));
     } catch (const nlohmann::json::exception& e) {

@@ -59,12 +59,12 @@ double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double dist
 // the vertex's own sampling. Sampling every light rather than picking one removes the variance of
 // the pick: on the SGGX twill under a sun and a sky it cut the time to equal noise 1.46x
 // (scripts/bench_render.py). Scenes of many lights would want a pick again.
-Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
-  Rgb L = scene_.sh_lights ? shGridDirect(vertex, rng, lookup) : Rgb(Rgb::Zero());
+Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup) const {
+  Rgb L = from_grid ? shGridDirect(vertex, rng, lookup) : Rgb(Rgb::Zero());
   for (const auto& light : scene_.lights) {
     const Point2 u = rng.uniform2();  // drawn for every light, so streams stay aligned
     if (!light->isDelta() && settings_.strategy == LightStrategy::kPhaseOnly) continue;
-    if (scene_.sh_lights && light->isArea()) continue;  // the grid stands for the area lights
+    if (from_grid && light->isArea()) continue;  // the grid stands for the area lights
     const LightSample ls = light->sample(vertex.p, u);
     if (!(ls.pdf > 0) || (ls.Li == 0).all()) continue;
     const Rgb f = vertex.eval(ls.wi);
@@ -82,11 +82,13 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, RandomStream& rng, Medi
 // a closed form, so with no variance: on a diffuse surface albedo E(n) / pi; in a medium of
 // isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables) one direction
 // sampled from the scattering function, weight f / pdf times the SH radiance. With sh_shadows, times
-// the medium's transmittance toward the grid's dominant direction (surfaces do not shadow it).
+// the medium's transmittance toward the grid's dominant direction, or along the sampled direction
+// where there is one (surfaces do not shadow the grid's light).
 Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
   const ShGridLookup& grid = *scene_.sh_lights;
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
   Rgb L;
+  Vec3 shadow_direction = Vec3::Zero();
   if (vertex.on_surface) {
     L = vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
   } else if (const std::optional<Rgb> closed_form = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
@@ -95,10 +97,11 @@ Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, Medi
     const ScatterSample s = vertex.sample(rng);
     if (!(s.pdf > 0)) return Rgb::Zero();
     L = s.weight * incidentRadiance(coeffs, grid.lmax(), s.wo).array();
+    shadow_direction = s.wo;
   }
   if (!scene_.sh_shadows || !lookup || (L == 0).all()) return L;
-  const Vec3 towards_light = dominantDirection(coeffs);
-  return towards_light.isZero() ? L : Rgb(L * lookup->transmittance(vertex.origin(), towards_light, kInfinity, rng));
+  if (shadow_direction.isZero()) shadow_direction = dominantDirection(coeffs);
+  return shadow_direction.isZero() ? L : Rgb(L * lookup->transmittance(vertex.origin(), shadow_direction, kInfinity, rng));
 }
 
 // Radiance of the environment lights along a ray that left the scene.
@@ -120,6 +123,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   PathSample result;
   Rgb beta = Rgb::Ones();
   double prev_pdf = 0;  // solid-angle pdf of the direction sampled at the previous vertex
+  bool prev_from_grid = false;  // the previous vertex's area light came from the SH grid
   const int max_depth = settings_.max_depth < 0 ? std::numeric_limits<int>::max() : settings_.max_depth;
   const double eps = scene_.ray_epsilon;
   for (int depth = 0;; ++depth) {
@@ -142,7 +146,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     } else if (hit && hit->light >= 0) {
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
       const Rgb Le = light.emitted(hit->normal, -ray.d);
-      if (scene_.sh_lights && !camera_ray) break;  // its direct light came from the SH grid
+      if (prev_from_grid) break;  // its direct light came from the SH grid
       if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
         result.L += beta * Le;
       } else if (settings_.strategy == LightStrategy::kMis) {
@@ -161,7 +165,9 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
 
     if (depth >= max_depth) break;
     ++result.scattering_events;
-    result.L += beta * sampleDirect(vertex, rng, lookup);
+    // The grid stands for the area lights inside its box; outside it they are sampled as usual.
+    prev_from_grid = scene_.sh_lights && scene_.sh_lights->contains(vertex.p);
+    result.L += beta * sampleDirect(vertex, prev_from_grid, rng, lookup);
     const ScatterSample s = vertex.sample(rng);
     if (!(s.pdf > 0) || (s.weight <= 0).all()) break;
     beta *= s.weight;

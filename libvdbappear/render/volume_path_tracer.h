@@ -42,7 +42,7 @@ class VolumePathTracer {
 
  private:
   struct Vertex;
-  Rgb sampleDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
+  Rgb sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup) const;
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
   double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
   Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const;

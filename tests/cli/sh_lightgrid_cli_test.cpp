@@ -120,6 +120,26 @@ TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   EXPECT_EQ(report.at("sh_lightgrid").at("interpolation"), "hermite");
 }
 
+// The grid stands for the area lights only inside its box: a ground that reaches far beyond a grid
+// of 1.2 x 1.2 around the light's foot is lit by sampling the light out there. Measured: +0.24%
+// against next-event estimation; clamping lookups into the box instead gave +98%.
+TEST(ShLightGridCli, VdbRenderSamplesTheLightsOutsideTheGridsBox) {
+  TempDir dir;
+  const std::string square = "[[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]]";
+  const std::string scene = writeFile(dir, "scene.json", "{\"lights\": [{\"type\": \"polygon\", \"vertices\": " + square +
+                                                             ", \"radiance\": [4,3,2]}], \"ground\": {\"height\": 0}, "
+                                                             "\"camera\": {\"position\": [0,-4,3], \"target\": [0,0,0]}}");
+  const std::string grid = dir.path("grid.vdb");
+  ASSERT_EQ(runCommand(kLightGrid + " --scene " + quote(scene) + " --bbox -0.6,-0.6,0,0.6,0.6,0.8 --res 7 -o " + quote(grid)).status, 0);
+  const std::string render = quote(VDB_RENDER) + " --scene " + quote(scene) + " --res 32 --report - -o ";
+  const auto nee = runCommand(render + quote(dir.path("nee.exr")) + " --spp 64");
+  const auto sh = runCommand(render + quote(dir.path("sh.exr")) + " --spp 16 --sh-lightgrid " + quote(grid));
+  ASSERT_EQ(nee.status, 0) << nee.err;
+  ASSERT_EQ(sh.status, 0) << sh.err;
+  const double mean_nee = json::parse(nee.out).at("mean_pixel_value").get<double>();
+  EXPECT_NEAR(json::parse(sh.out).at("mean_pixel_value").get<double>(), mean_nee, 0.025 * mean_nee);
+}
+
 // vdb_render --sh-lightgrid in media: clouds under a square light, seen from the side, lit from the
 // grid (single scattering by the Funk-Hecke closed form, shSingleScattering; shadows by one
 // transmittance ray toward the grid's dominant direction) against next-event estimation of the light
@@ -253,6 +273,23 @@ TEST(ShLightGridCli, BadInputGetsOneMessageAndNoOutput) {
   const auto degenerate = runCommand(kLightGrid + " --scene " + quote(flat) + " " + box + " -o " + quote(grid));
   EXPECT_NE(degenerate.status, 0);
   EXPECT_NE(degenerate.err.find("flat.json: lights[0]:"), std::string::npos) << degenerate.err;
+  EXPECT_FALSE(std::filesystem::exists(grid));
+  // Boxes, points and grids that cannot be.
+  refuse(kLights, "--bbox -1,-1,-1,1,inf,1", "--bbox: the box must be finite");
+  refuse(kLights, box + " --voxel-size 1e-12", "more than 1e8 nodes");
+  refuse(kLights, box + " --res 400", "the grid needs about");
+  const auto nan_probe = runCommand(kLightGrid + " --lights " + quote(writeFile(dir, "l.json", kLights)) + " --probe nan,0,0 --json");
+  EXPECT_NE(nan_probe.status, 0);
+  EXPECT_NE(nan_probe.err.find("--probe: X,Y,Z must be finite numbers"), std::string::npos) << nan_probe.err;
+  const std::string bad_scene = writeFile(dir, "badscene.json", R"({"lights": [{"type": "polygon"}], "colour": 1})");
+  const auto unreadable = runCommand(kLightGrid + " --scene " + quote(bad_scene) + " " + box + " -o " + quote(grid));
+  EXPECT_NE(unreadable.status, 0);
+  EXPECT_EQ(unreadable.err.find("badscene.json: " + bad_scene), std::string::npos) << "the file named once: " << unreadable.err;
+  EXPECT_NE(unreadable.err.find("badscene.json"), std::string::npos) << unreadable.err;
+  const std::string no_vertices = writeFile(dir, "novertices.json", R"({"lights": [{"type": "polygon"}]})");
+  const auto vertexless = runCommand(kLightGrid + " --scene " + quote(no_vertices) + " " + box + " -o " + quote(grid));
+  EXPECT_NE(vertexless.status, 0);
+  EXPECT_NE(vertexless.err.find("novertices.json: lights[0]: vertices: missing"), std::string::npos) << vertexless.err;
   EXPECT_FALSE(std::filesystem::exists(grid));
   // A medium file is not an SH light grid.
   const std::string not_grid = writeFile(dir, "x.vdb", "not a vdb");
