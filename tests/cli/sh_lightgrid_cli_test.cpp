@@ -98,8 +98,9 @@ TEST(ShLightGridCli, GridRoundTripsAndItsHermiteProbeIsCloseToTheAnalyticOne) {
 }
 
 // vdb_render --sh-lightgrid: a diffuse ground under a square light, lit from the grid (unshadowed,
-// which is exact here) against next-event estimation of the light. lmax 8 band-limits the light:
-// the mean comes out about 1% high (measured 1.05% at 1024 spp); 2.5% allows for the 64 spp noise.
+// which is exact here) against next-event estimation of the light; the ground beyond the grid's box
+// samples the light. Measured +0.03% against NEE at 1024 spp, and NEE at 64 spp is 0.22% from that;
+// 1% allows for the band limit and that noise.
 TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   TempDir dir;
   const std::string square = "[[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]]";
@@ -116,13 +117,14 @@ TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   ASSERT_EQ(sh.status, 0) << sh.err;
   const double mean_nee = json::parse(nee.out).at("mean_pixel_value").get<double>();
   const json report = json::parse(sh.out);
-  EXPECT_NEAR(report.at("mean_pixel_value").get<double>(), mean_nee, 0.025 * mean_nee);
+  EXPECT_NEAR(report.at("mean_pixel_value").get<double>(), mean_nee, 0.01 * mean_nee);
   EXPECT_EQ(report.at("sh_lightgrid").at("interpolation"), "hermite");
 }
 
 // The grid stands for the area lights only inside its box: a ground that reaches far beyond a grid
 // of 1.2 x 1.2 around the light's foot is lit by sampling the light out there. Measured: +0.24%
-// against next-event estimation; clamping lookups into the box instead gave +98%.
+// against next-event estimation at 64 spp (whose noise is about 0.2%); clamping lookups into the
+// box instead gave +98%.
 TEST(ShLightGridCli, VdbRenderSamplesTheLightsOutsideTheGridsBox) {
   TempDir dir;
   const std::string square = "[[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]]";
@@ -137,7 +139,7 @@ TEST(ShLightGridCli, VdbRenderSamplesTheLightsOutsideTheGridsBox) {
   ASSERT_EQ(nee.status, 0) << nee.err;
   ASSERT_EQ(sh.status, 0) << sh.err;
   const double mean_nee = json::parse(nee.out).at("mean_pixel_value").get<double>();
-  EXPECT_NEAR(json::parse(sh.out).at("mean_pixel_value").get<double>(), mean_nee, 0.025 * mean_nee);
+  EXPECT_NEAR(json::parse(sh.out).at("mean_pixel_value").get<double>(), mean_nee, 0.01 * mean_nee);
 }
 
 // vdb_render --sh-lightgrid in media: clouds under a square light, seen from the side, lit from the
