@@ -11,9 +11,9 @@
    against the analytic ones, and a diffuse ground lit from the grid against the same lit from a 64^3 grid.
 4. Rendering with 512 lights: a diffuse ground, a thick and a thin cloud, under the rectangle cut into 512
    coloured triangles. vdb_render with next-event estimation of every light (a shadow ray per light
-   per vertex) is compared with vdb_render --sh-lightgrid (SH, lmax 8, 8 nodes along the box's longest
-   axis; in the clouds shadowed toward the grid's dominant direction, and unshadowed), against a
-   reference from next-event estimation at many samples. NEE is also run for the time the grid
+   per vertex) is compared with vdb_render --sh-lightgrid (SH, lmax 8; 8 nodes along the cloud's
+   longest axis, 16 along the visible ground's; in the clouds shadowed toward the grid's dominant
+   direction, and unshadowed), against a reference from next-event estimation at many samples. NEE is also run for the time the grid
    render took (grid evaluation included), and the grid render for the time NEE took (the grid
    evaluated once, for many renders).
 5. Adaptive against uniform at equal memory: a square light 0.05 above the box [-1,1]^3, so the
@@ -134,16 +134,17 @@ def rendering(build, out, ref_spp, spp):
     for name, density in clouds.items():
         run([build / "bin" / "vdb_make_medium", "cloud", "--res", "64", "--albedo", "0.9", "--density", density, "--g", "0",
              "-o", out / f"{name}.vdb"])
-    # (scene, grid box, resolution, reference spp, spp): next-event estimation of 512 lights costs 512
-    # shadow rays per vertex, tracked through the medium in the clouds. The clouds' grids cover the
-    # medium (vdb_sh_lightgrid --scene), the ground's the space between the ground and the lights.
+    # (scene, grid box, grid nodes along its longest axis, image resolution, reference spp, spp):
+    # next-event estimation of 512 lights costs 512 shadow rays per vertex, tracked through the medium
+    # in the clouds. The clouds' grids cover the medium (vdb_sh_lightgrid --scene); the ground's covers
+    # the ground the camera sees, up to the lights (outside its box vdb_render would sample the lights).
     scenes = {"ground": ({"lights": scene_lights, "ground": {"height": 0, "albedo": 0.5},
-                          "camera": {"position": [0, -5, 3], "target": [0, 0, 0]}}, "-2.5,-2.5,0,2.5,2.5,1.4", 96, ref_spp, spp)}
+                          "camera": {"position": [0, -5, 3], "target": [0, 0, 0]}}, "-5,-3,0,5,6,1.4", 16, 96, ref_spp, spp)}
     for name in clouds:
         scenes[name] = ({"medium": str((out / f"{name}.vdb").resolve()), "lights": scene_lights,
-                         "camera": {"position": [0, -4, 1], "target": [0, 0, 0]}}, None, 64, ref_spp, spp)
+                         "camera": {"position": [0, -4, 1], "target": [0, 0, 0]}}, None, 8, 64, ref_spp, spp)
     results = {}
-    for name, (scene, bbox, res, ref_spp, spp) in scenes.items():
+    for name, (scene, bbox, nodes, res, ref_spp, spp) in scenes.items():
         scene_file = out / f"{name}_scene.json"
         scene_file.write_text(json.dumps(scene))
         common = ["--scene", scene_file, "--res", res, "--seed"]
@@ -152,9 +153,10 @@ def rendering(build, out, ref_spp, spp):
         grid = out / f"{name}_grid.vdb"
         start = time.perf_counter()
         box = ["--bbox", bbox] if bbox else []
-        run([build / "bin" / "vdb_sh_lightgrid", "--scene", scene_file, *box, "--res", "8", "-o", grid])
+        run([build / "bin" / "vdb_sh_lightgrid", "--scene", scene_file, *box, "--res", nodes, "-o", grid])
         grid_seconds = time.perf_counter() - start
-        row = {"reference": {"spp": ref_spp, "seconds": ref["seconds"]}, "grid_seconds": grid_seconds}
+        row = {"reference": {"spp": ref_spp, "seconds": ref["seconds"]}, "grid_seconds": grid_seconds, "grid_nodes_longest_axis": nodes,
+               "grid_box": bbox or "the medium's bounds"}
         variants = {"sh_hermite": ["--sh-lightgrid", grid], "sh_trilinear": ["--sh-lightgrid", grid, "--sh-interp", "trilinear"],
                     "nee": []}
         if bbox is None:  # a medium: shadows toward the dominant direction matter
@@ -285,7 +287,8 @@ def markdown(report):
             r = row[label]
             lines.append(f"| {name} | {title} | {r['spp']} | {r['seconds']:.2f} | {r['relative_rmse']:.4f} | "
                          f"{r['tile_relative_rmse']:.4f} | {r['mean_relative_error']:+.4f} |")
-        lines.append(f"| {name} | (grid evaluation, 512 lights) | - | {row['grid_seconds']:.2f} | - | - | - |")
+        lines.append(f"| {name} | (grid evaluation, 512 lights; {row['grid_nodes_longest_axis']} nodes along the longest axis of "
+                     f"{row['grid_box']}) | - | {row['grid_seconds']:.2f} | - | - | - |")
     lines += ["", "## 5. Adaptive against uniform at equal memory (square light 0.05 above the box; 2000 points)", "",
               "| tolerance | adaptive: nodes, rel. RMS error | uniform below: nodes, error (ratio) | uniform above: nodes, error (ratio) |",
               "|---|---|---|---|"]
