@@ -97,28 +97,39 @@ TEST(ShLightGridCli, GridRoundTripsAndItsHermiteProbeIsCloseToTheAnalyticOne) {
   EXPECT_NEAR(h["coeffs"][0][0].get<double>(), a["coeffs"][0][0].get<double>(), 0.01 * a["coeffs"][0][0].get<double>());
 }
 
+// The mean pixel value of a vdb_render report (failing the test when the render failed).
+double meanPixel(const test::CommandResult& r) {
+  EXPECT_EQ(r.status, 0) << r.err;
+  return r.status == 0 ? json::parse(r.out).at("mean_pixel_value").get<double>() : 0.0;
+}
+
+// A scene file's render command with a JSON report on stdout; the caller adds the output and flags.
+std::string renderCommand(const TempDir& dir, const std::string& scene, int resolution, const std::string& image) {
+  return quote(VDB_RENDER) + " --scene " + quote(scene) + " --res " + std::to_string(resolution) + " --report - -o " +
+         quote(dir.path(image));
+}
+
+// A diffuse ground under a square light of radiance (4, 3, 2) at height 1, seen from (0, -4, 3).
+std::string groundScene(const TempDir& dir) {
+  return writeFile(dir, "scene.json", R"({"lights": [{"type": "polygon", "vertices": [[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]],
+    "radiance": [4,3,2]}], "ground": {"height": 0}, "camera": {"position": [0,-4,3], "target": [0,0,0]}})");
+}
+
 // vdb_render --sh-lightgrid: a diffuse ground under a square light, lit from the grid (unshadowed,
 // which is exact here) against next-event estimation of the light; the ground beyond the grid's box
 // samples the light. Measured +0.03% against NEE at 1024 spp, and NEE at 64 spp is 0.22% from that;
 // 1% allows for the band limit and that noise.
 TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   TempDir dir;
-  const std::string square = "[[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]]";
-  const std::string lights = writeFile(dir, "lights.json", "{\"lights\": [{\"vertices\": " + square + ", \"radiance\": [4,3,2]}]}");
-  const std::string scene = writeFile(dir, "scene.json", "{\"lights\": [{\"type\": \"polygon\", \"vertices\": " + square +
-                                                             ", \"radiance\": [4,3,2]}], \"ground\": {\"height\": 0}, "
-                                                             "\"camera\": {\"position\": [0,-4,3], \"target\": [0,0,0]}}");
-  const std::string grid = dir.path("grid.vdb");
+  const std::string lights = writeFile(dir, "lights.json", R"({"lights": [{"vertices": [[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]],
+    "radiance": [4,3,2]}]})");
+  const std::string scene = groundScene(dir), grid = dir.path("grid.vdb");
   ASSERT_EQ(runCommand(kLightGrid + " --lights " + quote(lights) + " --bbox -2,-2,0,2,2,0.8 --res 9 -o " + quote(grid)).status, 0);
-  const std::string render = quote(VDB_RENDER) + " --scene " + quote(scene) + " --res 32 --report - -o ";
-  const auto nee = runCommand(render + quote(dir.path("nee.exr")) + " --spp 64");
-  const auto sh = runCommand(render + quote(dir.path("sh.exr")) + " --spp 4 --sh-lightgrid " + quote(grid));
-  ASSERT_EQ(nee.status, 0) << nee.err;
-  ASSERT_EQ(sh.status, 0) << sh.err;
-  const double mean_nee = json::parse(nee.out).at("mean_pixel_value").get<double>();
-  const json report = json::parse(sh.out);
-  EXPECT_NEAR(report.at("mean_pixel_value").get<double>(), mean_nee, 0.01 * mean_nee);
-  EXPECT_EQ(report.at("sh_lightgrid").at("interpolation"), "hermite");
+  const double nee = meanPixel(runCommand(renderCommand(dir, scene, 32, "nee.exr") + " --spp 64"));
+  const auto sh = runCommand(renderCommand(dir, scene, 32, "sh.exr") + " --spp 4 --sh-lightgrid " + quote(grid));
+  EXPECT_NEAR(meanPixel(sh), nee, 0.01 * nee);
+  ASSERT_EQ(sh.status, 0);
+  EXPECT_EQ(json::parse(sh.out).at("sh_lightgrid").at("interpolation"), "hermite");
 }
 
 // The grid stands for the area lights only inside its box: a ground that reaches far beyond a grid
@@ -127,19 +138,11 @@ TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
 // box instead gave +98%.
 TEST(ShLightGridCli, VdbRenderSamplesTheLightsOutsideTheGridsBox) {
   TempDir dir;
-  const std::string square = "[[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]]";
-  const std::string scene = writeFile(dir, "scene.json", "{\"lights\": [{\"type\": \"polygon\", \"vertices\": " + square +
-                                                             ", \"radiance\": [4,3,2]}], \"ground\": {\"height\": 0}, "
-                                                             "\"camera\": {\"position\": [0,-4,3], \"target\": [0,0,0]}}");
-  const std::string grid = dir.path("grid.vdb");
+  const std::string scene = groundScene(dir), grid = dir.path("grid.vdb");
   ASSERT_EQ(runCommand(kLightGrid + " --scene " + quote(scene) + " --bbox -0.6,-0.6,0,0.6,0.6,0.8 --res 7 -o " + quote(grid)).status, 0);
-  const std::string render = quote(VDB_RENDER) + " --scene " + quote(scene) + " --res 32 --report - -o ";
-  const auto nee = runCommand(render + quote(dir.path("nee.exr")) + " --spp 64");
-  const auto sh = runCommand(render + quote(dir.path("sh.exr")) + " --spp 16 --sh-lightgrid " + quote(grid));
-  ASSERT_EQ(nee.status, 0) << nee.err;
-  ASSERT_EQ(sh.status, 0) << sh.err;
-  const double mean_nee = json::parse(nee.out).at("mean_pixel_value").get<double>();
-  EXPECT_NEAR(json::parse(sh.out).at("mean_pixel_value").get<double>(), mean_nee, 0.01 * mean_nee);
+  const double nee = meanPixel(runCommand(renderCommand(dir, scene, 32, "nee.exr") + " --spp 64"));
+  const double sh = meanPixel(runCommand(renderCommand(dir, scene, 32, "sh.exr") + " --spp 16 --sh-lightgrid " + quote(grid)));
+  EXPECT_NEAR(sh, nee, 0.01 * nee);
 }
 
 // vdb_render --sh-lightgrid in media: clouds under a square light, seen from the side, lit from the
@@ -151,10 +154,6 @@ TEST(ShLightGridCli, VdbRenderSamplesTheLightsOutsideTheGridsBox) {
 // one. 6% allows for the band limit, the approximate shadows and the noise.
 TEST(ShLightGridCli, VdbRenderLightsMediaFromTheGridLikeTheLightItself) {
   TempDir dir;
-  const auto meanPixel = [](const test::CommandResult& r) {
-    EXPECT_EQ(r.status, 0) << r.err;
-    return r.status == 0 ? json::parse(r.out).at("mean_pixel_value").get<double>() : 0.0;
-  };
   for (const char* medium_flags : {"--density 0.05 --g 0.7", "--density 1 --g 0.3"}) {
     const std::string medium = dir.path("cloud.vdb");
     ASSERT_EQ(runCommand(quote(VDB_MAKE_MEDIUM) + " cloud --res 32 --albedo 0.9 " + medium_flags + " -o " + quote(medium)).status, 0);
@@ -164,9 +163,8 @@ TEST(ShLightGridCli, VdbRenderLightsMediaFromTheGridLikeTheLightItself) {
     const std::string grid = dir.path("grid.vdb");
     const auto built = runCommand(kLightGrid + " --scene " + quote(scene) + " --res 8 -o " + quote(grid));
     ASSERT_EQ(built.status, 0) << built.err;
-    const std::string render = quote(VDB_RENDER) + " --scene " + quote(scene) + " --res 48 --report - -o ";
-    const double nee = meanPixel(runCommand(render + quote(dir.path("nee.exr")) + " --spp 256"));
-    const std::string sh = render + quote(dir.path("sh.exr")) + " --spp 64 --sh-lightgrid " + quote(grid);
+    const double nee = meanPixel(runCommand(renderCommand(dir, scene, 48, "nee.exr") + " --spp 256"));
+    const std::string sh = renderCommand(dir, scene, 48, "sh.exr") + " --spp 64 --sh-lightgrid " + quote(grid);
     EXPECT_NEAR(meanPixel(runCommand(sh)), nee, 0.06 * nee) << medium_flags;
     if (std::string(medium_flags).find("--density 1") != std::string::npos)
       EXPECT_GT(meanPixel(runCommand(sh + " --sh-unshadowed")), 1.3 * nee) << "the thick cloud shadows itself";
