@@ -154,8 +154,7 @@ int probeGrid(const Options& o) {
 }
 
 // The bounds of a scene file's medium, or else of its meshes (lights and the ground bound nothing).
-Aabb sceneBounds(const std::string& scene_file) {
-  const SceneDescription scene = readSceneFile(scene_file);
+Aabb sceneBounds(const SceneDescription& scene, const std::string& scene_file) {
   if (!scene.medium.empty()) return MediumView(readMedium(scene.medium), Interpolation::kNearest).worldBounds();
   Aabb bounds;
   for (const MeshDescription& mesh : scene.meshes)
@@ -165,13 +164,13 @@ Aabb sceneBounds(const std::string& scene_file) {
   return bounds;
 }
 
-// The grid's box: --bbox, or the bounds of --medium's density, or of --scene.
-void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
+// The grid's box: --bbox, or the bounds of --medium's density, or of the scene (--scene).
+void gridBox(const Options& o, const std::optional<SceneDescription>& scene, Vec3* lo, Vec3* hi) {
   if (o.bbox) {
     *lo = vec3(*o.bbox, 0);
     *hi = vec3(*o.bbox, 3);
   } else {
-    const Aabb bounds = o.scene.empty() ? MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds() : sceneBounds(o.scene);
+    const Aabb bounds = scene ? sceneBounds(*scene, o.scene) : MediumView(readMedium(o.medium), Interpolation::kNearest).worldBounds();
     if (bounds.empty()) throw std::invalid_argument(fmt::format("{}: the medium has no active voxels: give --bbox", o.scene.empty() ? o.medium : o.scene));
     *lo = bounds.lo;
     *hi = bounds.hi;
@@ -181,13 +180,12 @@ void gridBox(const Options& o, Vec3* lo, Vec3* hi) {
     throw std::invalid_argument("--bbox: a max is below its min, or the box is a point");
 }
 
-// --lights, or the area lights of --scene.
-std::vector<PolygonLight> gridLights(const Options& o) {
+// --lights, or the area lights of the scene (--scene).
+std::vector<PolygonLight> gridLights(const Options& o, const std::optional<SceneDescription>& scene) {
   if (!o.lights_file.empty()) return readLightList(o.lights_file);
-  const SceneDescription scene = readSceneFile(o.scene);  // its errors name the file
   std::vector<PolygonLight> lights;
   try {
-    lights = sceneAreaLights(scene);
+    lights = sceneAreaLights(*scene);
   } catch (const std::runtime_error& e) {
     throw MediumError(fmt::format("{}: {}", o.scene, e.what()));
   }
@@ -210,9 +208,8 @@ void checkGridMemory(double nodes, int lmax) {
                                             needed / 1e9, nodes, lmax, available / 1e9));
 }
 
-std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::vector<PolygonLight>& lights, nlohmann::json* report) {
-  Vec3 lo, hi;
-  gridBox(o, &lo, &hi);
+std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::vector<PolygonLight>& lights, const Vec3& lo,
+                                                 const Vec3& hi, nlohmann::json* report) {
   if (o.adaptive.max_level > 0) {
     AdaptiveGridOptions adaptive = o.adaptive;
     adaptive.base_resolution = o.res;
@@ -237,11 +234,15 @@ std::shared_ptr<const ShGridLookup> evaluateGrid(const Options& o, const std::ve
 
 int buildGrid(const Options& o, const std::string& history) {
   tool::checkOutputs(o.lights_file.empty() ? o.scene : o.lights_file, o.output, o.report);
-  const std::vector<PolygonLight> lights = gridLights(o);
+  std::optional<SceneDescription> scene;
+  if (!o.scene.empty()) scene = readSceneFile(o.scene);  // read once; its errors name the file
+  const std::vector<PolygonLight> lights = gridLights(o, scene);
+  Vec3 lo, hi;
+  gridBox(o, scene, &lo, &hi);
   nlohmann::json report = {{"tool", kTool}, {"version", kVersion}, {"lights", lights.size()}, {"lmax", o.lmax},
                            {"coefficients", shCount(o.lmax)}};
   Stopwatch clock;
-  const std::shared_ptr<const ShGridLookup> grid = evaluateGrid(o, lights, &report);
+  const std::shared_ptr<const ShGridLookup> grid = evaluateGrid(o, lights, lo, hi, &report);
   const double seconds = clock.lap();
   writeShLightGrid(*grid, o.output, history);
   const double write_seconds = clock.lap();

@@ -18,13 +18,14 @@ struct RenderScene {
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
-  // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5), unshadowed,
-  // instead of next-event estimation of every area light. The area lights stay visible to camera rays.
+  // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5) at vertices
+  // inside its box, instead of next-event estimation of every area light; outside the box the lights
+  // are sampled. The area lights stay visible to camera rays.
   std::shared_ptr<const ShGridLookup> sh_lights;
   CellInterpolation sh_interpolation = CellInterpolation::kHermite;
-  // Attenuate the grid's light at each vertex by the medium's transmittance toward the grid's
-  // dominant direction there (one ratio-tracking ray, not one per light): an approximation of the
-  // shadows, exact for a small light seen through a medium (docs/sh_lightgrid.md §5).
+  // Attenuate the grid's light at each vertex by the medium's transmittance along one ray: toward the
+  // grid's dominant direction there, or along the sampled direction where one is sampled (one
+  // ratio-tracking ray, not one per light; docs/sh_lightgrid.md §5).
   bool sh_shadows = true;
 };
 
