@@ -24,6 +24,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_render twill.vdb -o twill.exr --view +z --spp 256 --env 0.2 --sun 1,1,-2,3 --ground
   vdb_render cloud.vdb -o cloud.exr --preview cloud.png --time 60 --env-map sky.exr
   vdb_render twill_4x.vdb -o train.exr --view -x --res 128x128 --sh-light 1,-1 --aov variance,cluster
+  vdb_render twill_4x_lobes.vdb -o grad.exr --view +z --res 100 --aov dweights  (dI/dw per cluster and lobe)
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
 Without a light flag or scene lights, the medium is lit by a white sky (--env 1).
@@ -112,7 +113,11 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
   for (const std::string& aov : f.aovs) {
     if (aov == "variance" || aov == "alpha") continue;
-    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance or cluster");
+    if (aov == "dweights") {
+      scene.render.weight_gradients = true;
+      continue;
+    }
+    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster or dweights");
     scene.render.cluster_coverage = true;
   }
   if (scene.medium.empty() && scene.meshes.empty() && !scene.ground)
@@ -159,7 +164,9 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_flag("--sh-unshadowed", f.sh_unshadowed, "with --sh-lightgrid: no shadows at all (the dissertation's unshadowed lighting)");
   app.add_option("--sh-interp", f.sh_interp, "SH grid interpolation: hermite (default), trilinear or taylor")
       ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}));
-  app.add_option("--aov", f.aovs, "extra EXR channels: alpha, variance, cluster (docs/rendering.md)")->delimiter(',');
+  app.add_option("--aov", f.aovs,
+                 "extra EXR channels: alpha, variance, cluster, dweights (gradient images of the lobe-weight factors; "
+                 "docs/rendering.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
 }
@@ -209,7 +216,8 @@ int main(int argc, char** argv) {
     threads.apply();
     SceneDescription scene = sceneOf(app, flags);
     const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
-    const RenderOutputs outputs{flags.output, flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage};
+    const RenderOutputs outputs{flags.output,      flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage,
+                                scene.render.weight_gradients};
     checkRenderOutputs(outputs);
     tool::checkOutputs(scene.medium, flags.output, flags.report);
     tool::checkDistinct(scene.medium, flags.preview, flags.output);
@@ -230,6 +238,10 @@ int main(int argc, char** argv) {
     const PinholeCamera camera(pose, scene.render.width, scene.render.height);
     if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
       throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
+    if (scene.render.weight_gradients && (!medium || medium->phaseSource() != PhaseSource::kLobes || medium->clusterCount() == 0))
+      throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
+    if (scene.render.weight_gradients && render_scene.sh_lights)
+      throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
     ProgressBar progress("render", 0);
     const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
     writeRenderOutputs(result, outputs);

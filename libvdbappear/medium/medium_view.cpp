@@ -371,15 +371,18 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   PhaseLobe lobe;
   if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
     lobe.kind = PhaseKind::kSggx;
-    for (LobeAccessors& l : a.lobes) {
+    for (std::size_t slot = 0; slot < a.lobes.size(); ++slot) {
+      LobeAccessors& l = a.lobes[slot];
       openvdb::Vec3s w(0.0f);
       if (!l.weight.probeValue(ijk, w)) continue;  // inactive: no such lobe here
       const Rgb weight = toRgb(w);
       if (!(weight > 0).any()) continue;
       const openvdb::Vec3s off = l.offdiag ? l.offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
       lobe.sggx = Sggx(sggxMatrix(toVec3(l.diag.getValue(ijk)), toVec3(off)));
-      f.addLobe(lobe, weight);
+      f.addLobe(lobe, weight, int(slot));
     }
+    int id = -1;
+    if (a.cluster && a.cluster->probeValue(ijk, id)) f.setCluster(id);
     return f;
   }
   // Albedo, S and g: at the nearest voxel, or density-weighted over the trilinear stencil.

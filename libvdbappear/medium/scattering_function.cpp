@@ -34,11 +34,21 @@ double PhaseLobe::legendreMoment(int l) const {
   throw std::logic_error("PhaseLobe::legendreMoment: no closed form for SGGX lobes and tables");
 }
 
-void ScatteringFunction::addLobe(const PhaseLobe& lobe, const Rgb& weight) {
+void ScatteringFunction::addLobe(const PhaseLobe& lobe, const Rgb& weight, int slot) {
   if (lobe_count_ == kMaxLobes) throw std::length_error("ScatteringFunction: too many lobes");
   lobes_[lobe_count_] = lobe;
   weights_[lobe_count_] = weight;
+  slots_[lobe_count_] = slot;
   ++lobe_count_;
+  updatePickProbabilities();
+}
+
+void ScatteringFunction::scaleWeight(int j, const Rgb& factor) {
+  weights_[j] *= factor;
+  updatePickProbabilities();
+}
+
+void ScatteringFunction::updatePickProbabilities() {
   double total = 0;
   for (int j = 0; j < lobe_count_; ++j) total += average(weights_[j]);
   for (int j = 0; j < lobe_count_; ++j)
@@ -55,6 +65,15 @@ Rgb ScatteringFunction::eval(const Vec3& wi, const Vec3& wo) const {
   Rgb f = Rgb::Zero();
   for (int j = 0; j < lobe_count_; ++j)
     if ((weights_[j] > 0).any()) f += weights_[j] * lobes_[j].eval(wi, wo);
+  return f;
+}
+
+Rgb ScatteringFunction::evalLobes(const Vec3& wi, const Vec3& wo, Rgb* per_lobe) const {
+  Rgb f = Rgb::Zero();
+  for (int j = 0; j < lobe_count_; ++j) {
+    per_lobe[j] = (weights_[j] > 0).any() ? Rgb(weights_[j] * lobes_[j].eval(wi, wo)) : Rgb(Rgb::Zero());
+    f += per_lobe[j];
+  }
   return f;
 }
 

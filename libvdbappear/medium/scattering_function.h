@@ -44,13 +44,24 @@ class ScatteringFunction {
  public:
   static constexpr int kMaxLobes = 8;
 
-  void addLobe(const PhaseLobe& lobe, const Rgb& weight);
+  // slot: the lobe grid the lobe came from (lobe{slot}_*, docs/medium.md §5), -1 for a voxel
+  // without lobe grids. Slots and the voxel's cluster say which weight factor w_kj scales the lobe
+  // (Eq. 12, downsampling paper).
+  void addLobe(const PhaseLobe& lobe, const Rgb& weight, int slot = -1);
   int lobeCount() const { return lobe_count_; }
   const PhaseLobe& lobe(int j) const { return lobes_[j]; }
   const Rgb& weight(int j) const { return weights_[j]; }  // W_j
+  int slot(int j) const { return slots_[j]; }
   Rgb albedo() const;  // sum_j W_j
+  // W_j *= factor (the lobe pick follows the new weights).
+  void scaleWeight(int j, const Rgb& factor);
+  int cluster() const { return cluster_; }  // the voxel's cluster c(i), -1 for none
+  void setCluster(int k) { cluster_ = k; }
 
   Rgb eval(const Vec3& wi, const Vec3& wo) const;  // f_s, RGB
+  // f_s, and per lobe its term W_j f_j(wi -> wo) in per_lobe[0 .. lobeCount()-1]: the derivative of
+  // f_s with respect to the log of lobe j's weight (Appendix A, downsampling paper).
+  Rgb evalLobes(const Vec3& wi, const Vec3& wo, Rgb* per_lobe) const;
   // The density of sample(): a lobe is picked with probability proportional to the mean of its
   // weight, so pdf = sum_j P(j) f_j.
   double pdf(const Vec3& wi, const Vec3& wo) const;
@@ -59,10 +70,14 @@ class ScatteringFunction {
   ScatterSample sample(const Vec3& wi, double u_lobe, const Point2& u) const;
 
  private:
+  void updatePickProbabilities();
+
   std::array<PhaseLobe, kMaxLobes> lobes_;
   std::array<Rgb, kMaxLobes> weights_;
   std::array<double, kMaxLobes> pick_probability_{};
+  std::array<int, kMaxLobes> slots_{};
   int lobe_count_ = 0;
+  int cluster_ = -1;
 };
 
 }  // namespace vdbappear

@@ -1,5 +1,6 @@
 #include "libvdbappear/render/render_image.h"
 
+#include "libvdbappear/render/path_gradients.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
 
@@ -22,17 +23,24 @@ struct PixelSums {
 
 struct ThreadState {
   std::unique_ptr<MediumLookup> lookup;
+  std::unique_ptr<PathGradients> gradients;
   std::uint64_t paths = 0, events = 0;
 };
 
 class Film {
  public:
-  Film(int width, int height, int clusters)
-      : width_(width), clusters_(clusters), pixels_(std::size_t(width) * height),
-        coverage_(std::size_t(width) * height * clusters, 0) {}
+  Film(int width, int height, int clusters, int gradient_parameters)
+      : width_(width), clusters_(clusters), parameters_(gradient_parameters), pixels_(std::size_t(width) * height),
+        coverage_(std::size_t(width) * height * clusters, 0),
+        gradient_sums_(std::size_t(width) * height * gradient_parameters, Rgb::Zero()) {}
 
-  void add(int x, int y, const PathSample& s) {
-    PixelSums& p = pixels_[std::size_t(y) * width_ + x];
+  void add(int x, int y, const PathSample& s, const PathGradients* gradients) {
+    const std::size_t pixel = std::size_t(y) * width_ + x;
+    if (gradients) {
+      const std::vector<Rgb>& dL = gradients->radianceDerivatives();
+      for (int p = 0; p < parameters_; ++p) gradient_sums_[pixel * parameters_ + p] += dL[p];
+    }
+    PixelSums& p = pixels_[pixel];
     p.sum += s.L;
     p.collisions += s.camera_ray_collided;
     p.sum_squares += s.L * s.L;
@@ -53,31 +61,48 @@ class Film {
         result->variance[3 * i + c] = float(std::max(0.0, sample_variance[c]) / spp);
       }
     }
+    result->weight_gradients.resize(gradient_sums_.size() * 3);
+    for (std::size_t i = 0; i < gradient_sums_.size(); ++i)
+      for (int c = 0; c < 3; ++c) result->weight_gradients[3 * i + c] = float(gradient_sums_[i][c] / spp);
     if (clusters_ == 0) return;
     result->cluster_coverage.resize(coverage_.size());
     for (std::size_t i = 0; i < coverage_.size(); ++i) result->cluster_coverage[i] = float(double(coverage_[i]) / spp);
   }
 
  private:
-  int width_, clusters_;
+  int width_, clusters_, parameters_;
   std::vector<PixelSums> pixels_;
   std::vector<std::uint32_t> coverage_;
+  std::vector<Rgb> gradient_sums_;  // per pixel and parameter
 };
+
+// The (clusters, lobes) of the gradient images: both 0 when none are asked.
+std::pair<int, int> gradientShape(const RenderScene& scene, const RenderSettings& settings) {
+  if (!settings.weight_gradients) return {0, 0};
+  if (!scene.medium || scene.medium->phaseSource() != PhaseSource::kLobes || scene.medium->clusterCount() == 0)
+    throw std::invalid_argument("gradient images need a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
+  if (scene.sh_lights) throw std::invalid_argument("gradient images cannot be rendered with an SH light grid");
+  return {scene.medium->clusterCount(), scene.medium->lobeCount()};
+}
 
 // Samples [first, last) of every pixel.
 void renderPass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first,
                 int last, Film& film, tbb::enumerable_thread_specific<ThreadState>& threads, ProgressBar* progress) {
   const VolumePathTracer tracer(scene, settings.path);
+  const auto [gradient_clusters, gradient_lobes] = gradientShape(scene, settings);
   tbb::parallel_for(tbb::blocked_range2d<int>(0, settings.height, 8, 0, settings.width, 8), [&](const auto& tile) {
     ThreadState& state = threads.local();
     if (scene.medium && !state.lookup) state.lookup = scene.medium->lookup();
+    if (gradient_clusters > 0 && !state.gradients)
+      state.gradients = std::make_unique<PathGradients>(gradient_clusters, gradient_lobes);
     for (int y = tile.rows().begin(); y != tile.rows().end(); ++y)
       for (int x = tile.cols().begin(); x != tile.cols().end(); ++x)
         for (int s = first; s < last; ++s) {
           RandomStream rng(settings.seed, {x, y, s});
           const Point2 jitter = rng.uniform2();
-          const PathSample sample = tracer.trace(camera.ray(x + jitter.x(), y + jitter.y()), rng, state.lookup.get());
-          film.add(x, y, sample);
+          const PathSample sample =
+              tracer.trace(camera.ray(x + jitter.x(), y + jitter.y()), rng, state.lookup.get(), state.gradients.get());
+          film.add(x, y, sample, state.gradients.get());
           ++state.paths;
           state.events += sample.scattering_events;
         }
@@ -91,7 +116,8 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
                          ProgressBar* progress) {
   const Stopwatch clock;
   const int clusters = settings.cluster_coverage && scene.medium ? scene.medium->clusterCount() : 0;
-  Film film(settings.width, settings.height, clusters);
+  const auto [gradient_clusters, gradient_lobes] = gradientShape(scene, settings);
+  Film film(settings.width, settings.height, clusters, gradient_clusters * gradient_lobes);
   tbb::enumerable_thread_specific<ThreadState> threads;
   const std::uint64_t pixels = std::uint64_t(settings.width) * settings.height;
   int done = 0;
@@ -127,6 +153,8 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
   result.height = settings.height;
   result.spp = done;
   result.cluster_count = clusters;
+  result.gradient_clusters = gradient_clusters;
+  result.gradient_lobes = gradient_lobes;
   film.resolve(done, &result);
   for (const ThreadState& state : threads) {
     result.paths += state.paths;

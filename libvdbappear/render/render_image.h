@@ -19,6 +19,9 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   PathSettings path;
   bool cluster_coverage = false;  // AOV: per cluster, the share of samples whose camera ray scatters in it
+  // Gradient images (render/path_gradients.h) of every (cluster, lobe slot) of a multi-lobe medium
+  // with a `cluster` grid, from the same paths as the image.
+  bool weight_gradients = false;
 };
 
 struct RenderResult {
@@ -30,11 +33,18 @@ struct RenderResult {
   // Per pixel, the share of camera rays with a real collision in the medium: an estimate of
   // 1 - transmittance along the pixel, the medium's alpha (surfaces in front count as no collision).
   std::vector<float> alpha;
+  // With weight_gradients: gradient_clusters * gradient_lobes parameters p = k * lobes + j, and per
+  // pixel, parameter and channel (in that order) dI/de_p, the derivative of the pixel with respect
+  // to a relative change of the weights of lobe slot j in cluster k (W -> W (1 + e)).
+  int gradient_clusters = 0, gradient_lobes = 0;
+  std::vector<float> weight_gradients;
   double seconds = 0;
   std::uint64_t paths = 0, scattering_events = 0;
   TrackingStats tracking;
 };
 
+// Throws std::invalid_argument when gradients are asked of a scene that has none to give (no lobe
+// or cluster grids) or that takes light from an SH grid.
 RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                          ProgressBar* progress = nullptr);
 

@@ -8,6 +8,10 @@
 // "cluster.K" for K = 0 .. clusters-1, the share of the pixel's camera rays whose first real
 // collision lies in a voxel of cluster K (> 0: cluster K is directly visible in the pixel, the
 // pixel sets of the restricted means of §6.3, downsampling paper).
+// Gradient images (render/path_gradients.h): "dw.kK.jJ.R/G/B", the derivative of the pixel with
+// respect to a factor w on the weights of lobe slot J in cluster K, at w = 1 (Eq. 23), and
+// "ds.kK.R/G/B", with respect to a colour scale s_K of that channel at s = 1 (Eq. 19): the sum over
+// J of dw.kK.jJ, since I^c depends on s^c and w_kj only through their products.
 
 #include "libvdbappear/image/image_file.h"
 #include "libvdbappear/render/render_image.h"
@@ -22,6 +26,7 @@ struct RenderOutputs {
   bool alpha = false;
   bool variance = false;
   bool clusters = false;
+  bool weight_gradients = false;
 };
 
 ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs);

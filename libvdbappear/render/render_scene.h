@@ -2,6 +2,7 @@
 // Everything a path sees: an optional medium, the lights, the opaque surfaces.
 
 #include "libvdbappear/lightgrid/cell_interpolation.h"
+#include "libvdbappear/medium/lobe_weight_scales.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
@@ -15,6 +16,9 @@ class ShGridLookup;
 
 struct RenderScene {
   std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
+  // Optional factors on the medium's lobe weights per (cluster, slot): how the weight optimisation
+  // renders candidate weight factors without rewriting the medium.
+  std::shared_ptr<const LobeWeightScales> lobe_scales;
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)

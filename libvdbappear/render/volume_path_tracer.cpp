@@ -7,6 +7,7 @@
 #include "libvdbappear/lightgrid/sh_grid_lookup.h"
 #include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/render/area_light.h"
+#include "libvdbappear/render/path_gradients.h"
 
 #include <stdexcept>
 
@@ -36,6 +37,9 @@ struct VolumePathTracer::Vertex {
     if (!on_surface) return medium.eval(wi, wo);
     return albedo * (std::max(0.0, normal.dot(wo)) / kPi);  // Lambertian f cos
   }
+  // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
+  Rgb eval(const Vec3& wo, Rgb* per_lobe) const { return on_surface ? eval(wo) : medium.evalLobes(wi, wo, per_lobe); }
+  const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const { return on_surface ? cosineHemispherePdf(normal.dot(wo)) : medium.pdf(wi, wo); }
   ScatterSample sample(RandomStream& rng) const {
     const double u_lobe = rng.uniform();
@@ -59,21 +63,27 @@ double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double dist
 // the vertex's own sampling. Sampling every light rather than picking one removes the variance of
 // the pick: on the SGGX twill under a sun and a sky it cut the time to equal noise 1.46x
 // (scripts/bench_render.py). Scenes of many lights would want a pick again.
-Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup) const {
+// With gradients, each light's term also enters the derivatives (path_gradients.h); beta is the
+// throughput that reached the vertex.
+Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup,
+                                   const Rgb& beta, PathGradients* gradients) const {
   Rgb L = from_grid ? shGridDirect(vertex, rng, lookup) : Rgb(Rgb::Zero());
+  std::array<Rgb, ScatteringFunction::kMaxLobes> per_lobe;
   for (const auto& light : scene_.lights) {
     const Point2 u = rng.uniform2();  // drawn for every light, so streams stay aligned
     if (!light->isDelta() && settings_.strategy == LightStrategy::kPhaseOnly) continue;
     if (from_grid && light->isArea()) continue;  // the grid stands for the area lights
     const LightSample ls = light->sample(vertex.p, u);
     if (!(ls.pdf > 0) || (ls.Li == 0).all()) continue;
-    const Rgb f = vertex.eval(ls.wi);
+    const Rgb f = gradients ? vertex.eval(ls.wi, per_lobe.data()) : vertex.eval(ls.wi);
     if ((f == 0).all()) continue;
     const double T = transmittance(vertex.origin(), ls.wi, ls.distance, rng, lookup);
     if (!(T > 0)) continue;
     double weight = 1;
     if (!ls.is_delta && settings_.strategy == LightStrategy::kMis) weight = powerHeuristic(ls.pdf, vertex.pdf(ls.wi));
-    L += f * ls.Li * (T * weight / ls.pdf);
+    const Rgb light_weight = ls.Li * (T * weight / ls.pdf);
+    L += f * light_weight;
+    if (gradients) gradients->addLightThroughVertex(vertex.scattering(), per_lobe.data(), beta, f, light_weight);
   }
   return L;
 }
@@ -119,8 +129,9 @@ Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool came
   return L;
 }
 
-PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* lookup) const {
+PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* lookup, PathGradients* gradients) const {
   PathSample result;
+  if (gradients) gradients->startPath();
   Rgb beta = Rgb::Ones();
   double prev_pdf = 0;  // solid-angle pdf of the direction sampled at the previous vertex
   bool prev_from_grid = false;  // the previous vertex's area light came from the SH grid
@@ -143,15 +154,19 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
         result.camera_ray_collided = true;
       }
       vertex.medium = lookup->scattering(vertex.p);
+      if (scene_.lobe_scales) scene_.lobe_scales->apply(vertex.medium);
     } else if (hit && hit->light >= 0) {
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
       const Rgb Le = light.emitted(hit->normal, -ray.d);
       if (prev_from_grid) break;  // its direct light came from the SH grid
+      Rgb Le_weighted = Rgb::Zero();
       if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
-        result.L += beta * Le;
+        Le_weighted = Le;
       } else if (settings_.strategy == LightStrategy::kMis) {
-        result.L += beta * Le * powerHeuristic(prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal));
+        Le_weighted = Le * powerHeuristic(prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal));
       }
+      result.L += beta * Le_weighted;
+      if (gradients) gradients->addLight(Le_weighted);
       break;
     } else if (hit) {
       vertex.on_surface = true;
@@ -159,7 +174,9 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       vertex.p = ray(hit->t) + eps * vertex.normal;
       vertex.albedo = hit->albedo;
     } else {
-      result.L += beta * escapedRadiance(ray, prev_pdf, camera_ray);
+      const Rgb escaped = escapedRadiance(ray, prev_pdf, camera_ray);
+      result.L += beta * escaped;
+      if (gradients) gradients->addLight(escaped);
       break;
     }
 
@@ -167,9 +184,14 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     ++result.scattering_events;
     // The grid stands for the area lights inside its box; outside it they are sampled as usual.
     prev_from_grid = scene_.sh_lights && scene_.sh_lights->contains(vertex.p);
-    result.L += beta * sampleDirect(vertex, prev_from_grid, rng, lookup);
+    result.L += beta * sampleDirect(vertex, prev_from_grid, rng, lookup, beta, gradients);
     const ScatterSample s = vertex.sample(rng);
     if (!(s.pdf > 0) || (s.weight <= 0).all()) break;
+    if (gradients) {
+      std::array<Rgb, ScatteringFunction::kMaxLobes> per_lobe;
+      if (!vertex.on_surface) vertex.medium.evalLobes(vertex.wi, s.wo, per_lobe.data());
+      gradients->scatter(vertex.scattering(), per_lobe.data(), beta, s.weight, s.pdf);
+    }
     beta *= s.weight;
     prev_pdf = s.pdf;
     ray = {vertex.p, s.wo};
@@ -177,6 +199,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const double q = std::min(1.0, beta.maxCoeff());
       if (rng.uniform() >= q) break;
       beta /= q;
+      if (gradients) gradients->scaleThroughput(1 / q);
     }
   }
   return result;

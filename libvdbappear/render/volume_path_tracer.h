@@ -34,15 +34,20 @@ struct PathSample {
   int scattering_events = 0;
 };
 
+class PathGradients;
+
 class VolumePathTracer {
  public:
   VolumePathTracer(const RenderScene& scene, const PathSettings& settings);
-  // lookup: this thread's MediumLookup (null when the scene has no medium).
-  PathSample trace(Ray ray, RandomStream& rng, MediumLookup* lookup) const;
+  // lookup: this thread's MediumLookup (null when the scene has no medium). gradients: when given,
+  // also the derivatives of the path's radiance with respect to the lobe-weight scales, from the
+  // same path (render/path_gradients.h; not with an SH light grid).
+  PathSample trace(Ray ray, RandomStream& rng, MediumLookup* lookup, PathGradients* gradients = nullptr) const;
 
  private:
   struct Vertex;
-  Rgb sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup) const;
+  Rgb sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup, const Rgb& beta,
+                   PathGradients* gradients) const;
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
   double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
   Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const;
