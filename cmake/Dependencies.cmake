@@ -28,3 +28,5 @@ pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
 # Surfaces: Embree 3 (target `embree`) and meshes through Assimp (OBJ, PLY, ...).
 find_package(embree 3 REQUIRED)
 find_package(assimp REQUIRED)
+# Content hashes (XXH3) for the cache of reference images (optimize/reference_cache.h).
+pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)

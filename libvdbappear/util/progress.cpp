@@ -25,6 +25,11 @@ void ProgressBar::advance(std::uint64_t steps) {
   draw(done);
 }
 
+void ProgressBar::setStatus(std::string status) {
+  std::lock_guard lock(draw_mutex_);
+  status_ = std::move(status);
+}
+
 void ProgressBar::finish() {
   if (!enabled_ || finished_) return;
   std::lock_guard lock(draw_mutex_);
@@ -40,8 +45,10 @@ void ProgressBar::draw(std::uint64_t done) {
   const double fraction = total_ ? std::min(1.0, double(done) / double(total_)) : 1.0;
   const int filled = int(fraction * kWidth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  fmt::print(stderr, "\r{} [{}{}] {:3.0f}% {:.1f}s", label_, std::string(filled, '#'),
-             std::string(kWidth - filled, '.'), 100 * fraction, seconds);
+  const std::string left = fraction > 0 && fraction < 1 ? fmt::format(", {:.0f}s left", seconds * (1 - fraction) / fraction) : "";
+  // \x1b[K clears what a longer earlier line left behind (the bar is drawn on terminals only).
+  fmt::print(stderr, "\r{} [{}{}] {:3.0f}% {:.1f}s{}{}{}\x1b[K", label_, std::string(filled, '#'),
+             std::string(kWidth - filled, '.'), 100 * fraction, seconds, left, status_.empty() ? "" : "  ", status_);
   std::fflush(stderr);
 }
 

@@ -21,12 +21,15 @@ class ProgressBar {
 
   void setTotal(std::uint64_t total) { total_ = total; }  // before the first advance()
   void advance(std::uint64_t steps = 1);
+  // Text shown after the bar (e.g. "iteration 3/30, E 0.0123"), drawn at the next advance().
+  void setStatus(std::string status);
   void finish();  // draws the final state and ends the line, if anything was drawn
 
  private:
   void draw(std::uint64_t done);
 
   std::string label_;
+  std::string status_;  // guarded by draw_mutex_
   std::atomic<std::uint64_t> total_;
   bool enabled_;
   bool finished_ = false;

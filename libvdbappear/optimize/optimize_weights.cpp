@@ -1,0 +1,153 @@
+#include "libvdbappear/optimize/optimize_weights.h"
+
+#include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/util/error.h"
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/version.h"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace vdbappear {
+
+namespace {
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+  AtomicFile file(path);
+  {
+    std::ofstream out(file.temporaryPath(), std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw MediumError(fmt::format("{}: cannot be written", path));
+  }
+  file.commit();
+}
+
+nlohmann::json readCheckpoint(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw MediumError(fmt::format("{}: no such checkpoint file", path));
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    throw MediumError(fmt::format("{}: not a complete checkpoint (truncated or not JSON)", path));
+  }
+}
+
+std::string logText(const WeightOptimizer& optimizer, const std::vector<std::string>& names) {
+  std::string text;
+  for (const IterationRecord& r : optimizer.history()) text += r.toJson(names).dump() + "\n";
+  return text;
+}
+
+std::string statusOf(const WeightOptimizer& optimizer) {
+  const IterationRecord& r = optimizer.history().back();
+  double largest_step = 0;
+  for (double s : r.step) largest_step = std::max(largest_step, s);
+  return fmt::format("iteration {}/{}  E {:.4g}  step {:.3g}  change {:.2g}", r.t, optimizer.settings().max_iterations,
+                     r.E, largest_step, r.relative_change);
+}
+
+}  // namespace
+
+WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& options,
+                                         const std::function<void(const std::string&)>& note) {
+  const Stopwatch total_clock;
+  if (options.full == "-")
+    throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
+  const MediumPtr full = readMedium(options.full);
+  const MediumPtr lobes = readMedium(options.lobes);
+  const LobeMediumLayout layout = inspectLobeMedium(*lobes);
+  const int factor = downsamplingFactor(*full, *lobes);
+
+  OptimizerSettings settings = options.optimizer;
+  settings.mode = options.mode.value_or(layout.coloured ? ColourMode::kColourScales : ColourMode::kGrey);
+  const auto full_view = std::make_shared<MediumView>(full, options.interpolation);
+  const auto lobes_view = std::make_shared<MediumView>(lobes, options.interpolation);
+  TrainingScenes scenes(lobes_view, trainingSet(full_view->worldBounds(), options.resolution, options.training_lights));
+
+  // References: from the cache, else rendered and stored.
+  Stopwatch clock;
+  const std::string full_hash = hashFile(options.full);
+  const ReferenceCache cache(options.cache);
+  std::vector<TrainingImage> images;
+  {
+    ProgressBar bar("references", scenes.size(), options.progress && stderrIsTerminal());
+    images = prepareTrainingImages(full_view, full_hash, scenes, options.references, cache,
+                                   [&](std::size_t) { bar.advance(); });
+  }
+  const double reference_seconds = clock.lap();
+  WeightOptimizationResult result;
+  result.references = int(images.size());
+  for (const TrainingImage& image : images) result.cache_hits += image.cache_hit;
+  if (cache.enabled())
+    note(fmt::format("references: {} of {} from the cache ({}), {} rendered in {:.1f} s", result.cache_hits,
+                     result.references, cache.folder(), result.references - result.cache_hits, reference_seconds));
+
+  const nlohmann::json inputs = {
+      {"full", full_hash},
+      {"lobes", mediumContentHash(*lobes)},
+      {"training", {{"lights", options.training_lights}, {"resolution", options.resolution},
+                    {"reference_spp", options.references.reference_spp}, {"mask_spp", options.references.mask_spp}}},
+      {"interp", interpolationName(options.interpolation)},
+      {"settings", settings.toJson()}};
+  WeightOptimizer optimizer(scenes, std::move(images), layout, settings);
+  if (!options.resume.empty()) {
+    try {
+      optimizer.resume(readCheckpoint(options.resume), inputs);
+    } catch (const std::invalid_argument& e) {
+      throw MediumError(fmt::format("{}: {}", options.resume, e.what()));
+    }
+    note(fmt::format("resumed from {} after iteration {}", options.resume, optimizer.iteration()));
+  }
+
+  // SGD, with the log and the checkpoint rewritten after every iteration.
+  const std::vector<std::string> names = optimizer.factors().parameterNames();
+  ProgressBar bar("optimising", std::uint64_t(settings.max_iterations), options.progress && stderrIsTerminal());
+  bar.advance(std::uint64_t(optimizer.iteration()));
+  double optimize_seconds = 0;
+  for (const IterationRecord& r : optimizer.history()) optimize_seconds += r.seconds;
+  while (!optimizer.done()) {
+    const IterationRecord& record = optimizer.iterate();
+    optimize_seconds += record.seconds;
+    if (!options.log.empty()) writeTextAtomically(options.log, logText(optimizer, names));
+    if (!options.checkpoint.empty()) writeTextAtomically(options.checkpoint, optimizer.checkpoint(inputs).dump(1) + "\n");
+    bar.setStatus(statusOf(optimizer));
+    bar.advance();
+  }
+  bar.finish();
+  clock.lap();
+  const TrainingError final_error = optimizer.evaluate(optimizer.factors(), 0);
+  const double final_seconds = clock.lap();
+
+  const auto& history = optimizer.history();
+  result.record = {
+      {"tool", "vdb_optimize_weights"},
+      {"version", kVersion},
+      {"factors", optimizer.factors().toJson()},
+      {"parameters", names},
+      {"E_naive", history.empty() ? 0.0 : history.front().E},
+      {"E_final", final_error.E},
+      {"E_final_per_image", final_error.per_image},
+      {"iterations", optimizer.iteration()},
+      {"converged", optimizer.converged()},
+      {"factor", factor},
+      {"training", {{"lights", options.training_lights}, {"resolution", options.resolution},
+                    {"images", scenes.size()}, {"reference_spp", options.references.reference_spp}}},
+      {"settings", settings.toJson()},
+      {"interp", interpolationName(options.interpolation)},
+      {"steps", optimizer.steps().toJson()},
+      {"seconds", {{"references", reference_seconds},
+                   {"optimisation", optimize_seconds},
+                   {"final_evaluation", final_seconds},
+                   {"total", total_clock.seconds()}}}};
+  writeMedium(*applyWeightFactors(*lobes, optimizer.factors(), result.record), options.output, options.history_line);
+  return result;
+}
+
+}  // namespace vdbappear

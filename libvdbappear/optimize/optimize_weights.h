@@ -1,0 +1,44 @@
+#pragma once
+// The whole of vdb_optimize_weights as a library call: read FULL and LOBES, check that LOBES is
+// vdb_lobe_cluster's output on FULL, prepare the training images (references from the cache),
+// run the SGD of optimize/weight_optimizer.h with a JSON-lines log and an atomic checkpoint after
+// every iteration, and write LOBES with optimised lobe weights and the metadata `weight_factors`.
+// Light header.
+
+#include "libvdbappear/medium/interpolation.h"
+#include "libvdbappear/optimize/training_images.h"
+#include "libvdbappear/optimize/weight_optimizer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace vdbappear {
+
+struct WeightOptimizationOptions {
+  std::string full, lobes, output;        // FULL (a file), LOBES and OUT (files, or "-")
+  std::optional<ColourMode> mode;         // none: colour scales if LOBES's weights are coloured, else grey
+  OptimizerSettings optimizer;            // its mode is set from `mode`
+  std::string training_lights = "sh1";    // optimize/training_set.h
+  int resolution = 100;                   // training images: pixels on the long side
+  TrainingRenderSettings references;
+  Interpolation interpolation = Interpolation::kNearest;
+  std::string cache;                      // reference cache folder; "" for none
+  std::string log, checkpoint, resume;    // files; "" for none
+  std::string history_line;               // appended to OUT's history
+  bool progress = true;                   // progress bars on stderr (drawn only on a terminal)
+};
+
+struct WeightOptimizationResult {
+  nlohmann::json record;  // what OUT's `weight_factors` holds (factors, errors, settings, timings)
+  int cache_hits = 0, references = 0;
+};
+
+// notes: one line at a time for the user (cache hits, resumption). Throws MediumError for bad input
+// (naming the file and the grid) and std::invalid_argument for bad settings.
+WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& options,
+                                         const std::function<void(const std::string&)>& note);
+
+}  // namespace vdbappear

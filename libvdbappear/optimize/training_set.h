@@ -1,0 +1,52 @@
+#pragma once
+// The training renderings of the weight optimisation (§6.3, §8.1, Fig. 7 of the downsampling paper):
+// the six views along the axes of the medium's bounding box, each under a few smooth lights, at
+// about 100 pixels on the long side.
+//
+// The paper's lights are the SH basis functions of bands 0-1. Y_1m is negative on half the sphere,
+// so its renders are signed and their means near 0, where c_r = 1 / max(mean, 0.05) of Eq. 14 is a
+// poor normalisation. The same four-dimensional space of lights is spanned by non-negative ones:
+// a constant sky L = 1 and the three skies L = 1 + w.a (a = +x, +y, +z, brightest looking toward a,
+// zero opposite), which is what "sh1" renders. "sh0" is the constant sky alone; "sh2" adds the
+// nine skies 1 + Y_2m / max|Y_2m| (Fig. 13's band 2); "sun" adds six suns travelling along -a for
+// each axis direction a, over a dim sky (harsh light, for the held-out study of
+// docs/optimize.md). Light header.
+
+#include "libvdbappear/render/camera.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace vdbappear {
+
+struct TrainingView {
+  std::string name;  // "+x" ... "-z"
+  CameraPose pose;
+  int width = 0, height = 0;
+};
+
+struct TrainingLighting {
+  std::string name;       // "sky", "sky+x", ...
+  nlohmann::json lights;  // scene-file lights (render/scene_description.h)
+};
+
+struct TrainingConfig {
+  TrainingView view;
+  TrainingLighting lighting;
+  std::string name() const { return view.name + "/" + lighting.name; }
+};
+
+// The six views of Fig. 7 framed on `box` (render/camera.h framedView, vertical fov 30), each image
+// `resolution` pixels on its long side with the aspect of the box's face (at least 8 on the short).
+std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution);
+
+// Lightings by a '+'-separated list of kinds: sh0, sh1, sh2, sun (above). Throws
+// std::invalid_argument for an unknown kind.
+std::vector<TrainingLighting> trainingLightings(const std::string& kinds);
+
+// Every view under every lighting, views outermost.
+std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds);
+
+}  // namespace vdbappear

@@ -1,0 +1,163 @@
+#include "libvdbappear/optimize/weight_factors.h"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace vdbappear {
+
+const char* colourModeName(ColourMode mode) {
+  switch (mode) {
+    case ColourMode::kGrey: return "grey";
+    case ColourMode::kColourScales: return "colour-scales";
+    case ColourMode::kPerChannel: return "per-channel";
+  }
+  return "?";
+}
+
+ColourMode parseColourMode(const std::string& name) {
+  for (ColourMode mode : {ColourMode::kGrey, ColourMode::kColourScales, ColourMode::kPerChannel})
+    if (name == colourModeName(mode)) return mode;
+  throw std::invalid_argument("colour mode '" + name + "': expected grey, colour-scales or per-channel");
+}
+
+WeightFactors::WeightFactors(int clusters, int lobes, ColourMode mode)
+    : clusters_(clusters), lobes_(lobes), mode_(mode), w_(std::size_t(clusters) * lobes, Rgb::Ones()),
+      s_(clusters, Rgb::Ones()) {
+  if (clusters < 1 || lobes < 1) throw std::invalid_argument("WeightFactors: needs at least one cluster and one lobe");
+}
+
+LobeWeightScales WeightFactors::scales() const {
+  LobeWeightScales scales(clusters_, lobes_);
+  for (int k = 0; k < clusters_; ++k)
+    for (int j = 0; j < lobes_; ++j) scales.at(k, j) = s(k) * w(k, j);
+  return scales;
+}
+
+int WeightFactors::parameterCount() const {
+  const int per_cluster = mode_ == ColourMode::kPerChannel ? 3 * lobes_ : lobes_ + (mode_ == ColourMode::kColourScales ? 3 : 0);
+  return clusters_ * per_cluster;
+}
+
+namespace {
+
+// Visits the parameters in the order of WeightFactors::parameters(): visit(value&, name).
+template <typename Factors, typename Visit>
+void forEachParameter(Factors& f, Visit&& visit) {
+  const char* channel[3] = {"R", "G", "B"};
+  for (int k = 0; k < f.clusters(); ++k) {
+    for (int j = 0; j < f.lobes(); ++j) {
+      if (f.mode() == ColourMode::kPerChannel) {
+        for (int c = 0; c < 3; ++c) visit(f.w(k, j)[c], fmt::format("w_{},{}.{}", k, j, channel[c]), k, j, c);
+      } else {
+        visit(f.w(k, j)[0], fmt::format("w_{},{}", k, j), k, j, -1);
+      }
+    }
+    if (f.mode() == ColourMode::kColourScales)
+      for (int c = 0; c < 3; ++c) visit(f.s(k)[c], fmt::format("s_{}.{}", k, channel[c]), k, -1, c);
+  }
+}
+
+}  // namespace
+
+std::vector<double> WeightFactors::parameters() const {
+  std::vector<double> theta;
+  forEachParameter(*this, [&](double value, const std::string&, int, int, int) { theta.push_back(value); });
+  return theta;
+}
+
+void WeightFactors::setParameters(const std::vector<double>& theta) {
+  if (int(theta.size()) != parameterCount()) throw std::invalid_argument("WeightFactors: wrong parameter count");
+  std::size_t i = 0;
+  forEachParameter(*this, [&](double& value, const std::string&, int k, int j, int c) {
+    value = theta[i++];
+    if (j >= 0 && c < 0) w(k, j) = Rgb::Constant(value);  // grey factors: every channel
+  });
+}
+
+std::vector<std::string> WeightFactors::parameterNames() const {
+  std::vector<std::string> names;
+  forEachParameter(*this, [&](double, const std::string& name, int, int, int) { names.push_back(name); });
+  return names;
+}
+
+std::vector<double> WeightFactors::chainRule(const std::vector<Rgb>& d) const {
+  if (d.size() != w_.size()) throw std::invalid_argument("WeightFactors::chainRule: wrong size");
+  std::vector<double> gradient;
+  forEachParameter(*this, [&](double value, const std::string&, int k, int j, int c) {
+    double sum = 0;
+    if (j >= 0 && c < 0) sum = d[std::size_t(k) * lobes_ + j].sum();  // w_kj: every channel
+    if (j >= 0 && c >= 0) sum = d[std::size_t(k) * lobes_ + j][c];     // w_kj^c
+    if (j < 0)
+      for (int l = 0; l < lobes_; ++l) sum += d[std::size_t(k) * lobes_ + l][c];  // s_k^c
+    gradient.push_back(sum / value);
+  });
+  // Colour scales move colour only (normaliseColourScales): their gradient is projected onto
+  // sum_c ds_k^c = 0, the tangent of mean(s_k) = 1, so that s_k and w_k share no direction.
+  if (mode_ == ColourMode::kColourScales)
+    for (int k = 0; k < clusters_; ++k) {
+      double* s_k = &gradient[std::size_t(k) * (lobes_ + 3) + lobes_];
+      const double mean = (s_k[0] + s_k[1] + s_k[2]) / 3;
+      for (int c = 0; c < 3; ++c) s_k[c] -= mean;
+    }
+  return gradient;
+}
+
+void WeightFactors::normaliseColourScales() {
+  if (mode_ != ColourMode::kColourScales) return;
+  for (int k = 0; k < clusters_; ++k) {
+    const double mean = average(s(k));
+    if (!(mean > 0)) continue;
+    s(k) /= mean;
+    for (int j = 0; j < lobes_; ++j) w(k, j) *= mean;
+  }
+}
+
+namespace {
+
+nlohmann::json rgbJson(const Rgb& v) { return {v[0], v[1], v[2]}; }
+
+Rgb rgbOf(const nlohmann::json& j) {
+  if (!j.is_array() || j.size() != 3) throw std::invalid_argument("weight_factors: expected [r, g, b]");
+  Rgb v;
+  for (int c = 0; c < 3; ++c) {
+    if (!j[c].is_number()) throw std::invalid_argument("weight_factors: expected numbers");
+    v[c] = j[c].get<double>();
+    if (!(v[c] > 0) || !std::isfinite(v[c])) throw std::invalid_argument("weight_factors: factors must be finite and > 0");
+  }
+  return v;
+}
+
+}  // namespace
+
+nlohmann::json WeightFactors::toJson() const {
+  nlohmann::json w = nlohmann::json::array(), s = nlohmann::json::array();
+  for (int k = 0; k < clusters_; ++k) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int j = 0; j < lobes_; ++j) row.push_back(rgbJson(this->w(k, j)));
+    w.push_back(row);
+    s.push_back(rgbJson(this->s(k)));
+  }
+  return {{"clusters", clusters_}, {"lobes", lobes_}, {"mode", colourModeName(mode_)}, {"w", w}, {"s", s}};
+}
+
+WeightFactors WeightFactors::fromJson(const nlohmann::json& json) {
+  try {
+    WeightFactors f(json.at("clusters").get<int>(), json.at("lobes").get<int>(),
+                    parseColourMode(json.at("mode").get<std::string>()));
+    const nlohmann::json &w = json.at("w"), &s = json.at("s");
+    if (!w.is_array() || int(w.size()) != f.clusters_ || !s.is_array() || int(s.size()) != f.clusters_)
+      throw std::invalid_argument("weight_factors: 'w' and 's' need one entry per cluster");
+    for (int k = 0; k < f.clusters_; ++k) {
+      if (!w[k].is_array() || int(w[k].size()) != f.lobes_)
+        throw std::invalid_argument("weight_factors: 'w' needs one RGB per lobe in each cluster");
+      for (int j = 0; j < f.lobes_; ++j) f.w(k, j) = rgbOf(w[k][j]);
+      f.s(k) = rgbOf(s[k]);
+    }
+    return f;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(std::string("weight_factors: ") + e.what());
+  }
+}
+
+}  // namespace vdbappear
