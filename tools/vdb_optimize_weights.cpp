@@ -58,6 +58,8 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--training-lights", o.training_lights,
                  "lights of the training set, '+'-separated: sh0, sh1 (bands 0-1, the paper's), sh2, sun")
       ->capture_default_str();
+  app.add_option("--training-views", o.training_views, "sides of the bounding box the training images look from")
+      ->capture_default_str();
   app.add_option("--colour", f.colour,
                  "auto (colour scales when LOBES's weights differ between channels), grey or colour-scales (Eq. 19)")
       ->check(CLI::IsMember({"auto", "grey", "colour-scales"}))->capture_default_str();

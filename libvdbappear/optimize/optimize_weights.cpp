@@ -69,7 +69,8 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   settings.mode = options.mode.value_or(layout.coloured ? ColourMode::kColourScales : ColourMode::kGrey);
   const auto full_view = std::make_shared<MediumView>(full, options.interpolation);
   const auto lobes_view = std::make_shared<MediumView>(lobes, options.interpolation);
-  TrainingScenes scenes(lobes_view, trainingSet(full_view->worldBounds(), options.resolution, options.training_lights));
+  TrainingScenes scenes(lobes_view, trainingSet(full_view->worldBounds(), options.resolution, options.training_lights,
+                                                   options.training_views));
 
   // References: from the cache, else rendered and stored.
   Stopwatch clock;
@@ -92,7 +93,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   const nlohmann::json inputs = {
       {"full", full_hash},
       {"lobes", mediumContentHash(*lobes)},
-      {"training", {{"lights", options.training_lights}, {"resolution", options.resolution},
+      {"training", {{"lights", options.training_lights}, {"views", options.training_views}, {"resolution", options.resolution},
                     {"reference_spp", options.references.reference_spp}, {"mask_spp", options.references.mask_spp}}},
       {"interp", interpolationName(options.interpolation)},
       {"settings", settings.toJson()}};
@@ -126,6 +127,16 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   const double final_seconds = clock.lap();
 
   const auto& history = optimizer.history();
+  // Per training image and cluster, the relative error of each channel's restricted mean.
+  const auto errorTable = [&](const std::vector<std::vector<Rgb>>& errors) {
+    nlohmann::json table = nlohmann::json::object();
+    for (std::size_t i = 0; i < errors.size() && i < optimizer.images().size(); ++i) {
+      nlohmann::json clusters = nlohmann::json::array();
+      for (const Rgb& e : errors[i]) clusters.push_back({e[0], e[1], e[2]});
+      table[optimizer.images()[i].config.name()] = clusters;
+    }
+    return table;
+  };
   result.record = {
       {"tool", "vdb_optimize_weights"},
       {"version", kVersion},
@@ -134,11 +145,14 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
       {"E_naive", history.empty() ? 0.0 : history.front().E},
       {"E_final", final_error.E},
       {"E_final_per_image", final_error.per_image},
+      {"relative_errors", {{"naive", history.empty() || history.front().t != 1 ? nlohmann::json() : errorTable(history.front().relative_errors)},
+                           {"final", errorTable(final_error.relative_errors)}}},
       {"iterations", optimizer.iteration()},
       {"converged", optimizer.converged()},
       {"factor", factor},
-      {"training", {{"lights", options.training_lights}, {"resolution", options.resolution},
-                    {"images", scenes.size()}, {"reference_spp", options.references.reference_spp}}},
+      {"training", {{"lights", options.training_lights}, {"views", options.training_views},
+                    {"resolution", options.resolution}, {"images", scenes.size()},
+                    {"reference_spp", options.references.reference_spp}}},
       {"settings", settings.toJson()},
       {"interp", interpolationName(options.interpolation)},
       {"steps", optimizer.steps().toJson()},

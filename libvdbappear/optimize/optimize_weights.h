@@ -22,6 +22,7 @@ struct WeightOptimizationOptions {
   std::optional<ColourMode> mode;         // none: colour scales if LOBES's weights are coloured, else grey
   OptimizerSettings optimizer;            // its mode is set from `mode`
   std::string training_lights = "sh1";    // optimize/training_set.h
+  std::string training_views = kAllSides; // the bounding-box sides to view from
   int resolution = 100;                   // training images: pixels on the long side
   TrainingRenderSettings references;
   Interpolation interpolation = Interpolation::kNearest;

@@ -18,8 +18,10 @@ void addTrainingImage(const TrainingImage& image, const RenderResult& a, const R
   }
   const Rgb c2 = image.normalisation * image.normalisation;
   double E = 0;
+  error->relative_errors.emplace_back(K, Rgb::Zero());
   for (int k = 0; k < K; ++k) {
     if (image.masks.count(k) == 0) continue;
+    error->relative_errors.back()[k] = ((mean_a[k] + mean_b[k]) / 2) / image.reference[k].max(1e-12) - 1;
     const Rgb da = mean_a[k] - image.reference[k], db = mean_b[k] - image.reference[k];
     E += (c2 * da * db).sum();
     if (!gradients) continue;

@@ -33,6 +33,9 @@ struct TrainingError {
   std::vector<double> per_image;    // E of each training image
   std::vector<Rgb> dE_de;           // Eq. 16: dE / de_kj^c, [k * lobes + j]
   std::vector<Residual> residuals;  // every (image, cluster, channel), from the mean of A and B
+  // Per image and cluster, mean_k(I~) / mean_k(I) - 1 per channel (A and B averaged; 0 where the
+  // cluster is not visible): what E is made of, for reports.
+  std::vector<std::vector<Rgb>> relative_errors;
 };
 
 // Adds training image `image`'s share from its two half renders (with weight_gradients unless only

@@ -12,6 +12,7 @@ namespace {
 RenderScene sceneOf(std::shared_ptr<const MediumView> medium, const TrainingConfig& config) {
   SceneDescription description;
   description.lights = config.lighting.lights;
+  if (config.lighting.ground) description.ground = GroundDescription{config.ground_height, Rgb::Constant(0.5)};
   return buildRenderScene(description, std::move(medium), [](const std::string& file) -> RgbImage {
     throw std::runtime_error("training lights read no images (" + file + ")");
   });
@@ -51,6 +52,7 @@ std::string referenceKey(const std::string& full_hash, const TrainingConfig& con
       {"camera", {vectorJson(pose.position), vectorJson(pose.target), vectorJson(pose.up), pose.fov_degrees}},
       {"size", {config.view.width, config.view.height}},
       {"lights", config.lighting.lights},
+      {"ground", config.lighting.ground ? nlohmann::json(config.ground_height) : nlohmann::json()},
       {"spp", s.reference_spp},
       {"seed", s.reference_seed},
       {"max_depth", s.path.max_depth},

@@ -3,29 +3,75 @@
 #include "libvdbappear/math/constants.h"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 namespace vdbappear {
 
-std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution) {
-  const Vec3 e = box.extent();
+namespace {
+
+// A side (+x ... -z) or a corner (+x+y+z ... -x-y-z): the unit direction toward the camera.
+std::optional<Vec3> directionOf(const std::string& name) {
+  const auto sign = [](char c) { return c == '+' ? 1.0 : c == '-' ? -1.0 : 0.0; };
+  Vec3 d = Vec3::Zero();
+  if (name.size() == 2 && name[1] >= 'x' && name[1] <= 'z') {
+    d[name[1] - 'x'] = sign(name[0]);
+  } else if (name.size() == 6 && name[1] == 'x' && name[3] == 'y' && name[5] == 'z') {
+    d = Vec3(sign(name[0]), sign(name[2]), sign(name[4]));
+    if (d.cwiseAbs().minCoeff() == 0) return std::nullopt;
+  }
+  if (d.isZero()) return std::nullopt;
+  return d.normalized();
+}
+
+std::vector<std::string> splitViews(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  std::string item;
+  const auto add = [&](const std::string& view) {
+    for (const std::string& seen : out)
+      if (seen == view) throw std::invalid_argument("training views '" + list + "': " + view + " twice");
+    out.push_back(view);
+  };
+  while (std::getline(in, item, ',')) {
+    if (item == "faces") {
+      for (const char* side : {"+x", "-x", "+y", "-y", "+z", "-z"}) add(side);
+    } else if (item == "corners" || item == "upper-corners") {
+      for (const char* c : {"+x+y+z", "-x+y+z", "+x-y+z", "-x-y+z", "+x+y-z", "-x+y-z", "+x-y-z", "-x-y-z"})
+        if (item == "corners" || c[4] == '+') add(c);
+    } else if (directionOf(item)) {
+      add(item);
+    } else {
+      throw std::invalid_argument("training views '" + list + "': '" + item +
+                                  "' is not a side (+x ... -z), a corner (+x+y+z ... -x-y-z), faces, corners or "
+                                  "upper-corners");
+    }
+  }
+  if (out.empty()) throw std::invalid_argument("training views: empty list");
+  return out;
+}
+
+}  // namespace
+
+std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution, const std::string& sides) {
   std::vector<TrainingView> views;
-  for (const char* side : {"+x", "-x", "+y", "-y", "+z", "-z"}) {
-    // The face seen from the side: image axes (horizontal, vertical) as framedView orients them.
-    const int axis = side[1] - 'x';
-    const double across = axis == 0 ? e.y() : e.x();
-    const double up = axis == 2 ? e.y() : e.z();
+  for (const std::string& name : splitViews(sides)) {
+    const Vec3 d = *directionOf(name);
+    // Up: +z, or +y for views along z (as framedView).
+    const Vec3 up = std::abs(d.z()) > 0.999 ? Vec3(0, 1, 0) : Vec3(0, 0, 1);
+    const double aspect = outlineAspect(box, d, up);
     TrainingView view;
-    view.name = side;
-    if (across >= up) {
+    view.name = name;
+    if (aspect >= 1) {
       view.width = resolution;
-      view.height = std::max(8, int(std::lround(resolution * up / std::max(across, 1e-300))));
+      view.height = std::max(8, int(std::lround(resolution / aspect)));
     } else {
       view.height = resolution;
-      view.width = std::max(8, int(std::lround(resolution * across / std::max(up, 1e-300))));
+      view.width = std::max(8, int(std::lround(resolution * aspect)));
     }
-    view.pose = framedView(box, side, 30, double(view.width) / view.height);
+    view.pose = name.size() == 2 ? framedView(box, name, 30, double(view.width) / view.height)
+                                 : framedDirection(box, d, up, 30, double(view.width) / view.height);
     views.push_back(view);
   }
   return views;
@@ -70,8 +116,12 @@ std::vector<TrainingLighting> trainingLightings(const std::string& kinds) {
   std::vector<TrainingLighting> out;
   std::stringstream in(kinds);
   std::string kind;
-  bool any = false;
+  bool any = false, ground = false;
   while (std::getline(in, kind, '+')) {
+    if (kind == "ground") {
+      ground = true;
+      continue;
+    }
     any = true;
     if (kind == "sh0") {
       out.push_back({"sky", {sky(1)}});
@@ -85,10 +135,15 @@ std::vector<TrainingLighting> trainingLightings(const std::string& kinds) {
     } else if (kind == "sun") {
       addSuns(out);
     } else {
-      throw std::invalid_argument("training lights '" + kinds + "': unknown kind '" + kind + "' (sh0, sh1, sh2, sun)");
+      throw std::invalid_argument("training lights '" + kinds + "': unknown kind '" + kind +
+                                  "' (sh0, sh1, sh2, sun, ground)");
     }
   }
-  if (!any) throw std::invalid_argument("training lights: empty list");
+  if (!any) throw std::invalid_argument("training lights '" + kinds + "': no lights (sh0, sh1, sh2 or sun)");
+  for (TrainingLighting& l : out) {
+    l.ground = ground;
+    if (ground) l.name += "+ground";
+  }
   // A kind listed twice, or sh0 with sh1, would repeat the sky: keep the first of each name.
   std::vector<TrainingLighting> unique;
   for (const TrainingLighting& l : out) {
@@ -99,11 +154,12 @@ std::vector<TrainingLighting> trainingLightings(const std::string& kinds) {
   return unique;
 }
 
-std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds) {
+std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds,
+                                        const std::string& sides) {
   std::vector<TrainingConfig> set;
   const std::vector<TrainingLighting> lightings = trainingLightings(light_kinds);
-  for (const TrainingView& view : boundingBoxViews(box, resolution))
-    for (const TrainingLighting& lighting : lightings) set.push_back({view, lighting});
+  for (const TrainingView& view : boundingBoxViews(box, resolution, sides))
+    for (const TrainingLighting& lighting : lightings) set.push_back({view, lighting, box.lo.z()});
   return set;
 }
 

@@ -10,7 +10,8 @@
 // zero opposite), which is what "sh1" renders. "sh0" is the constant sky alone; "sh2" adds the
 // nine skies 1 + Y_2m / max|Y_2m| (Fig. 13's band 2); "sun" adds six suns travelling along -a for
 // each axis direction a, over a dim sky (harsh light, for the held-out study of
-// docs/optimize.md). Light header.
+// docs/optimize.md). The modifier "ground" puts a diffuse ground (albedo 0.5) under the medium in
+// every lighting: light from below then comes only from the ground's bounce. Light header.
 
 #include "libvdbappear/render/camera.h"
 
@@ -30,23 +31,30 @@ struct TrainingView {
 struct TrainingLighting {
   std::string name;       // "sky", "sky+x", ...
   nlohmann::json lights;  // scene-file lights (render/scene_description.h)
+  bool ground = false;    // a diffuse ground (albedo 0.5) at the bottom of the box
 };
 
 struct TrainingConfig {
   TrainingView view;
   TrainingLighting lighting;
+  double ground_height = 0;  // z of the ground, when lighting.ground (the bottom of the full medium's box)
   std::string name() const { return view.name + "/" + lighting.name; }
 };
 
-// The six views of Fig. 7 framed on `box` (render/camera.h framedView, vertical fov 30), each image
-// `resolution` pixels on its long side with the aspect of the box's face (at least 8 on the short).
-std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution);
+// Views framed on `box` (vertical fov 30), each image `resolution` pixels on its long side with the
+// aspect of the box's outline (at least 8 on the short). views: a comma-separated list of sides
+// (+x ... -z: the views of Fig. 7, render/camera.h framedView), corners (+x+y+z ... -x-y-z: along
+// the box's diagonals, framedDirection), and the words faces (the six sides), corners (the eight)
+// and upper-corners (the four with +z). Throws std::invalid_argument for anything else.
+inline constexpr const char* kAllSides = "faces";
+std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution, const std::string& sides = kAllSides);
 
-// Lightings by a '+'-separated list of kinds: sh0, sh1, sh2, sun (above). Throws
+// Lightings by a '+'-separated list of kinds: sh0, sh1, sh2, sun, and the modifier ground (above). Throws
 // std::invalid_argument for an unknown kind.
 std::vector<TrainingLighting> trainingLightings(const std::string& kinds);
 
 // Every view under every lighting, views outermost.
-std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds);
+std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds,
+                                        const std::string& sides = kAllSides);
 
 }  // namespace vdbappear

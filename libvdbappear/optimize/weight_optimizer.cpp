@@ -72,6 +72,7 @@ const IterationRecord& WeightOptimizer::iterate() {
     steps_ = tuneStepSizes(error.residuals, factors_, settings_.step_rule, settings_.step_b, settings_.step_scale);
   record.E = error.E;
   record.per_image = error.per_image;
+  record.relative_errors = error.relative_errors;
   record.theta = factors_.parameters();
   record.gradient = factors_.chainRule(error.dE_de);
   std::vector<double> theta = record.theta;

@@ -47,6 +47,7 @@ struct IterationRecord {
   std::vector<double> gradient;    // dE/dtheta there
   std::vector<double> step;        // the diagonal of delta_t (Eq. 18)
   std::vector<double> per_image;   // E of each training image
+  std::vector<std::vector<Rgb>> relative_errors;  // TrainingError::relative_errors (not checkpointed)
   double relative_change = 0;      // largest |theta_new - theta| / theta of this iteration's update
   bool limited = false;            // the effective-albedo limit changed the update
   double seconds = 0;

@@ -50,4 +50,49 @@ CameraPose framedView(const Aabb& box, const std::string& side, double fov_degre
   return pose;
 }
 
+namespace {
+
+// The camera frame of a view from `toward_camera`: right, up (image axes).
+std::pair<Vec3, Vec3> imageAxes(const Vec3& toward_camera, const Vec3& up) {
+  const Vec3 forward = -toward_camera.normalized();
+  const Vec3 right = forward.cross(up);
+  if (!(right.norm() > 1e-9)) throw std::invalid_argument("framing: up is parallel to the view direction");
+  return {right.normalized(), right.normalized().cross(forward)};
+}
+
+Vec3 corner(const Aabb& box, int c) {
+  return {c & 1 ? box.hi.x() : box.lo.x(), c & 2 ? box.hi.y() : box.lo.y(), c & 4 ? box.hi.z() : box.lo.z()};
+}
+
+}  // namespace
+
+CameraPose framedDirection(const Aabb& box, const Vec3& toward_camera, const Vec3& up, double fov_degrees, double aspect) {
+  const auto [right, image_up] = imageAxes(toward_camera, up);
+  const Vec3 d = toward_camera.normalized();
+  const double tan_v = std::tan(fov_degrees * kPi / 360), tan_h = tan_v * aspect;
+  double distance = 0;
+  for (int c = 0; c < 8; ++c) {  // corner at depth z toward the camera must fit: |x| <= (D - z) tan
+    const Vec3 q = corner(box, c) - box.centre();
+    const double z = q.dot(d);
+    distance = std::max({distance, z + 1.05 * std::abs(q.dot(right)) / tan_h, z + 1.05 * std::abs(q.dot(image_up)) / tan_v});
+  }
+  CameraPose pose;
+  pose.fov_degrees = fov_degrees;
+  pose.up = up;
+  pose.target = box.centre();
+  pose.position = pose.target + distance * d;
+  return pose;
+}
+
+double outlineAspect(const Aabb& box, const Vec3& toward_camera, const Vec3& up) {
+  const auto [right, image_up] = imageAxes(toward_camera, up);
+  double w = 0, h = 0;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 q = corner(box, c) - box.centre();
+    w = std::max(w, std::abs(q.dot(right)));
+    h = std::max(h, std::abs(q.dot(image_up)));
+  }
+  return h > 0 ? w / h : 1.0;
+}
+
 }  // namespace vdbappear

@@ -34,4 +34,10 @@ class PinholeCamera {
 // downsampling paper). Up is +z for the x and y sides and +y for the z sides.
 CameraPose framedView(const Aabb& box, const std::string& side, double fov_degrees, double aspect);
 
+// Looks at the box's centre from the unit direction `toward_camera` (up: `up`, not parallel to it),
+// from the nearest distance at which all eight corners fit the image.
+CameraPose framedDirection(const Aabb& box, const Vec3& toward_camera, const Vec3& up, double fov_degrees, double aspect);
+// Width / height of the box's outline seen from `toward_camera` (orthographic), for image sizes.
+double outlineAspect(const Aabb& box, const Vec3& toward_camera, const Vec3& up);
+
 }  // namespace vdbappear
