@@ -26,8 +26,9 @@ constexpr const char* kExamples = R"(Examples:
 FULL is the full-resolution medium (a file: its bytes address the reference cache), LOBES the
 output of vdb_lobe_cluster on it. OUT is LOBES with every lobe{j}_weight multiplied by the factor
 of its voxel's cluster (Eq. 12; Eq. 19 with colour scales) and the metadata weight_factors; any
-renderer that reads lobes renders it. Training: the six bounding-box views x the lights of
---training-lights, --resolution pixels on the long side; the error is Eq. 14 over restricted means,
+renderer that reads lobes renders it. Training: the views of --training-views x the lights of
+--training-lights (default: from above, over a ground; the paper's set is --training-views faces
+--training-lights sh1), --resolution pixels on the long side; the error is Eq. 14 over restricted means,
 its gradient Eq. 16 from gradient images of the same paths. Step sizes a/(t+b) (Eq. 18) are tuned
 from the first iteration. See docs/optimize.md.)";
 
@@ -56,9 +57,12 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--resolution", o.resolution, "training images: pixels on the long side")
       ->check(CLI::Range(8, 4096))->capture_default_str();
   app.add_option("--training-lights", o.training_lights,
-                 "lights of the training set, '+'-separated: sh0, sh1 (bands 0-1, the paper's), sh2, sun")
+                 "lights of the training set, +-separated: sh0, sh1 (bands 0-1, the paper's), sh2, sun, and ground (a "
+                 "ground under the medium)")
       ->capture_default_str();
-  app.add_option("--training-views", o.training_views, "sides of the bounding box the training images look from")
+  app.add_option("--training-views", o.training_views,
+                 "views of the training images: sides +x ... -z, box corners +x+y+z ... -x-y-z, faces, corners, "
+                 "upper-corners (the paper's: faces)")
       ->capture_default_str();
   app.add_option("--colour", f.colour,
                  "auto (colour scales when LOBES's weights differ between channels), grey or colour-scales (Eq. 19)")

@@ -69,7 +69,9 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   settings.mode = options.mode.value_or(layout.coloured ? ColourMode::kColourScales : ColourMode::kGrey);
   const auto full_view = std::make_shared<MediumView>(full, options.interpolation);
   const auto lobes_view = std::make_shared<MediumView>(lobes, options.interpolation);
-  TrainingScenes scenes(lobes_view, trainingSet(full_view->worldBounds(), options.resolution, options.training_lights,
+  // Framed on the reduced medium's box, which holds the full one's (docs/medium.md §2): a training
+  // ground at its bottom lies under both media.
+  TrainingScenes scenes(lobes_view, trainingSet(lobes_view->worldBounds(), options.resolution, options.training_lights,
                                                    options.training_views));
 
   // References: from the cache, else rendered and stored.

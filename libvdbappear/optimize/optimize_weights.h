@@ -21,8 +21,11 @@ struct WeightOptimizationOptions {
   std::string full, lobes, output;        // FULL (a file), LOBES and OUT (files, or "-")
   std::optional<ColourMode> mode;         // none: colour scales if LOBES's weights are coloured, else grey
   OptimizerSettings optimizer;            // its mode is set from `mode`
-  std::string training_lights = "sh1";    // optimize/training_set.h
-  std::string training_views = kAllSides; // the bounding-box sides to view from
+  // The training set (optimize/training_set.h, docs/optimize.md §3): by default views from above
+  // (+z and the four upper corners of the box) under the four band 0-1 skies over a ground; the
+  // paper's set is training_views "faces", training_lights "sh1".
+  std::string training_lights = "sh1+ground";
+  std::string training_views = "+z,upper-corners";
   int resolution = 100;                   // training images: pixels on the long side
   TrainingRenderSettings references;
   Interpolation interpolation = Interpolation::kNearest;

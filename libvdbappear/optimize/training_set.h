@@ -46,8 +46,8 @@ struct TrainingConfig {
 // (+x ... -z: the views of Fig. 7, render/camera.h framedView), corners (+x+y+z ... -x-y-z: along
 // the box's diagonals, framedDirection), and the words faces (the six sides), corners (the eight)
 // and upper-corners (the four with +z). Throws std::invalid_argument for anything else.
-inline constexpr const char* kAllSides = "faces";
-std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution, const std::string& sides = kAllSides);
+inline constexpr const char* kFaces = "faces";
+std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution, const std::string& sides = kFaces);
 
 // Lightings by a '+'-separated list of kinds: sh0, sh1, sh2, sun, and the modifier ground (above). Throws
 // std::invalid_argument for an unknown kind.
@@ -55,6 +55,6 @@ std::vector<TrainingLighting> trainingLightings(const std::string& kinds);
 
 // Every view under every lighting, views outermost.
 std::vector<TrainingConfig> trainingSet(const Aabb& box, int resolution, const std::string& light_kinds,
-                                        const std::string& sides = kAllSides);
+                                        const std::string& sides = kFaces);
 
 }  // namespace vdbappear
