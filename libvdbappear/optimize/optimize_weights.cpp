@@ -98,7 +98,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
       {"training", {{"lights", options.training_lights}, {"views", options.training_views}, {"resolution", options.resolution},
                     {"reference_spp", options.references.reference_spp}, {"mask_spp", options.references.mask_spp}}},
       {"interp", interpolationName(options.interpolation)},
-      {"settings", settings.toJson()}};
+      {"settings", settings.iterateJson()}};
   WeightOptimizer optimizer(scenes, std::move(images), layout, settings);
   if (!options.resume.empty()) {
     try {

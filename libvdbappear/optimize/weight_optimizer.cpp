@@ -18,6 +18,12 @@ nlohmann::json OptimizerSettings::toJson() const {
           {"roulette_depth", path.roulette_depth}};
 }
 
+nlohmann::json OptimizerSettings::iterateJson() const {
+  nlohmann::json j = toJson();
+  for (const char* stopping : {"max_iterations", "min_iterations", "tolerance"}) j.erase(stopping);
+  return j;
+}
+
 nlohmann::json IterationRecord::toJson(const std::vector<std::string>& names) const {
   nlohmann::json factors = nlohmann::json::object(), gradients = nlohmann::json::object(), steps = nlohmann::json::object();
   for (std::size_t p = 0; p < theta.size() && p < names.size(); ++p) {

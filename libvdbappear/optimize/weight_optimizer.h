@@ -38,6 +38,9 @@ struct OptimizerSettings {
   std::uint64_t seed = 0;
   PathSettings path;
   nlohmann::json toJson() const;
+  // The settings that change the iterates (not when to stop): what a checkpoint must share to be
+  // resumed.
+  nlohmann::json iterateJson() const;
 };
 
 struct IterationRecord {

@@ -8,6 +8,7 @@
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -80,6 +81,32 @@ TEST(RenderCli, ClusterAovMarksWhereEachClusterIsVisible) {
       << left0 << " " << left1 << " " << right0 << " " << right1;
 }
 
+// --aov dweights: per cluster k and lobe slot j the layer dw.kK.jJ, and ds.kK their sum per channel.
+TEST(RenderCli, GradientAovHasALayerPerClusterAndLobe) {
+  TempDir dir;
+  const std::string twill = dir.path("twill.vdb"), lobes = dir.path("lobes.vdb"), out = dir.path("g.exr");
+  ASSERT_EQ(runCommand(quote(VDB_MAKE_MEDIUM) + " twill --yarns 2 --res 32 -o " + quote(twill)).status, 0);
+  ASSERT_EQ(runCommand(quote(VDB_LOBE_CLUSTER) + " -f 4 --lobes 2 --clusters 2 " + quote(twill) + " " + quote(lobes)).status, 0);
+  const auto r = runCommand(kRender + " " + quote(lobes) + " -o " + quote(out) + " --res 12 --spp 4 --aov dweights");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const ImageChannels image = readImageChannels(out);
+  ASSERT_EQ(image.names.size(), 3u + 2 * (2 * 3 + 3));
+  const std::size_t n = image.names.size();
+  double sum = 0;
+  for (int k = 0; k < 2; ++k)
+    for (const char* c : {"R", "G", "B"}) {
+      const int ds = image.find(fmt::format("ds.k{}.{}", k, c)), dw0 = image.find(fmt::format("dw.k{}.j0.{}", k, c)),
+                dw1 = image.find(fmt::format("dw.k{}.j1.{}", k, c));
+      ASSERT_TRUE(ds >= 0 && dw0 >= 0 && dw1 >= 0) << k << c;
+      for (std::size_t p = 0; p < std::size_t(image.width) * image.height; ++p) {
+        const float* v = &image.values[p * n];
+        EXPECT_NEAR(v[ds], v[dw0] + v[dw1], 1e-5);
+        sum += v[dw0];
+      }
+    }
+  EXPECT_GT(sum, 0);  // the weights make the fabric brighter
+}
+
 TEST(RenderCli, FlagsOverrideTheSceneFile) {
   TempDir dir;
   const std::string scene = dir.path("scene.json"), out = dir.path("s.exr"), report = dir.path("r.json");
@@ -126,6 +153,8 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"unknown scene key", kCube + " --scene " + quote(typo), "sppp: unknown key"},
       {"sun without direction", kCube + " --scene " + quote(sunless), "lights[0]"},
       {"cluster AOV without clusters", kCube + " --aov cluster", "--aov cluster needs a medium with a 'cluster' grid"},
+      {"gradient AOV without lobes", kCube + " --aov dweights", "--aov dweights needs a multi-lobe medium"},
+      {"unknown AOV", kCube + " --aov normals", "--aov 'normals'"},
       {"missing scene", kCube + " --scene " + quote(dir.path("none.json")), "cannot open the scene file"},
       {"target without position", kCube + " --camera-target 0,0,0", "--camera-target needs --camera-pos"},
       {"camera at its target", kCube + " --camera-pos 1,1,1 --camera-target 1,1,1", "position and target coincide"},
