@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid clean
+.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid optimize clean
 
 all: build
 
@@ -43,7 +43,11 @@ similarity: build
 lightgrid: build
 	@scripts/lightgrid_experiment.py --build $(BUILD_DIR)
 
+# Optimised lobe weights (vdb_optimize_weights) on the paper's cases, judged under held-out lighting.
+optimize: build
+	@scripts/optimize_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out media
+	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out media
 
 include scripts/media.mk

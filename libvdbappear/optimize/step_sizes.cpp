@@ -52,22 +52,51 @@ StepSizes StepSizes::fromJson(const nlohmann::json& json) {
   }
 }
 
-StepSizes tuneStepSizes(const std::vector<Residual>& residuals, const WeightFactors& factors, StepRule rule, double b,
-                        double scale) {
+GaussNewton& GaussNewton::operator+=(const GaussNewton& o) {
+  if (H.empty()) {
+    *this = o;
+    return *this;
+  }
+  if (o.H.size() != H.size() || o.D.size() != D.size()) throw std::invalid_argument("GaussNewton: sizes differ");
+  for (std::size_t i = 0; i < H.size(); ++i) H[i] += o.H[i];
+  for (std::size_t i = 0; i < D.size(); ++i) D[i] += o.D[i];
+  return *this;
+}
+
+GaussNewton GaussNewton::scaled(double factor) const {
+  GaussNewton g = *this;
+  for (double& h : g.H) h *= factor;
+  for (double& d : g.D) d *= factor;
+  return g;
+}
+
+GaussNewton gaussNewton(const std::vector<Residual>& residuals, const WeightFactors& factors) {
   const int P = factors.parameterCount();
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(P, P);
+  GaussNewton g;
+  g.D.assign(P, 0.0);
   for (const Residual& r : residuals) {
     const std::vector<double> row = factors.chainRule(r.derivative);
     const Eigen::Map<const Eigen::VectorXd> j(row.data(), P);
     H += 2 * j * j.transpose();
+    const std::vector<double> alone = factors.chainRule(r.derivative, false);
+    for (int p = 0; p < P; ++p) g.D[p] += 2 * alone[p] * alone[p];
   }
+  g.H.assign(H.data(), H.data() + H.size());  // symmetric: the storage order does not matter
+  return g;
+}
+
+StepSizes stepSizesFrom(const GaussNewton& gauss_newton, StepRule rule, double b, double scale) {
+  const int P = int(gauss_newton.D.size());
+  if (std::size_t(P) * P != gauss_newton.H.size()) throw std::invalid_argument("stepSizesFrom: H is not P x P");
+  const Eigen::Map<const Eigen::MatrixXd> H(gauss_newton.H.data(), P, P);
   StepSizes steps;
   steps.rule = rule;
   steps.b = b;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P, P);
   Eigen::VectorXd inv_sqrt = Eigen::VectorXd::Zero(P);  // D^-1/2
   for (int p = 0; p < P; ++p)
-    if (H(p, p) > 0) inv_sqrt[p] = 1 / std::sqrt(H(p, p));
+    if (gauss_newton.D[p] > 0) inv_sqrt[p] = 1 / std::sqrt(gauss_newton.D[p]);
   const Eigen::MatrixXd preconditioned = inv_sqrt.asDiagonal() * H * inv_sqrt.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(preconditioned);
   if (rule == StepRule::kNewton) {
@@ -81,12 +110,17 @@ StepSizes tuneStepSizes(const std::vector<Residual>& residuals, const WeightFact
     const double lambda_max = P > 0 ? eigen.eigenvalues().maxCoeff() : 0;
     steps.eta = lambda_max > 1 ? 1 / lambda_max : 1.0;
     for (int p = 0; p < P; ++p)
-      if (H(p, p) > 0) A(p, p) = scale * steps.eta * (1 + b) / H(p, p);
+      if (gauss_newton.D[p] > 0) A(p, p) = scale * steps.eta * (1 + b) / gauss_newton.D[p];
   }
   steps.A.assign(std::size_t(P) * P, 0.0);
   for (int p = 0; p < P; ++p)
     for (int q = 0; q < P; ++q) steps.A[std::size_t(p) * P + q] = A(p, q);
   return steps;
+}
+
+StepSizes tuneStepSizes(const std::vector<Residual>& residuals, const WeightFactors& factors, StepRule rule, double b,
+                        double scale) {
+  return stepSizesFrom(gaussNewton(residuals, factors), rule, b, scale);
 }
 
 }  // namespace vdbappear

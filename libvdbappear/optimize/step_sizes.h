@@ -2,9 +2,9 @@
 // Step sizes of the stochastic gradient descent, Eq. (17)-(18) of the downsampling paper:
 //   theta^(t+1) = theta^(t) - delta_t dE/dtheta,   delta_t = A / (t + b),  t = 1, 2, ...
 // The paper's A is diagonal, a_kj per factor, tuned by hand on a subset of the training set. Here
-// A follows from the Jacobian J of the residuals of Eq. 14 at the first iteration (its gradient
-// images: no extra renders), with H = 2 J^T J the Gauss-Newton approximation of E's Hessian and
-// D = diag(H). Two rules:
+// A follows from the Jacobian J of the residuals of Eq. 14 (the gradient images of the iterations:
+// no extra renders), with H = 2 J^T J the Gauss-Newton approximation of E's Hessian, averaged over
+// the iterations so far (weight_optimizer.h), and D = diag(H). Two rules:
 //
 //   newton (default): A = (1 + b) D^-1/2 G^+ D^-1/2 with G = D^-1/2 H D^-1/2 (unit diagonal) and
 //     G^+ its inverse on the eigen-directions of G with eigenvalue >= kNewtonKeep (0 elsewhere): the
@@ -56,7 +56,21 @@ struct StepSizes {
   static StepSizes fromJson(const nlohmann::json& json);  // throws std::invalid_argument
 };
 
-// scale multiplies A (1: the rules above; for studies of the rules).
+// H = 2 sum_r J_r J_r^T over the residuals, J_r = dr/dtheta (chain rule of the factors, with the
+// colour-scale gauge), P x P, and D_p = 2 sum_r (dr/dtheta_p)^2 without the gauge: the curvature of
+// each parameter alone, the scale the rules measure directions in. (With the gauge a lobe factor
+// of a colour-scale cluster keeps only the balance of the lobes, whose curvature would pass for
+// that of a whole parameter.)
+struct GaussNewton {
+  std::vector<double> H;  // P x P
+  std::vector<double> D;  // P
+  GaussNewton& operator+=(const GaussNewton& o);
+  GaussNewton scaled(double factor) const;
+};
+GaussNewton gaussNewton(const std::vector<Residual>& residuals, const WeightFactors& factors);
+// The step sizes of a rule; scale multiplies A (1: the rules above; for studies of the rules).
+StepSizes stepSizesFrom(const GaussNewton& gauss_newton, StepRule rule, double b = 1, double scale = 1);
+// stepSizesFrom(gaussNewtonMatrix(residuals, factors), ...).
 StepSizes tuneStepSizes(const std::vector<Residual>& residuals, const WeightFactors& factors, StepRule rule,
                         double b = 1, double scale = 1);
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -81,7 +82,7 @@ std::vector<std::string> WeightFactors::parameterNames() const {
   return names;
 }
 
-std::vector<double> WeightFactors::chainRule(const std::vector<Rgb>& d) const {
+std::vector<double> WeightFactors::chainRule(const std::vector<Rgb>& d, bool gauge) const {
   if (d.size() != w_.size()) throw std::invalid_argument("WeightFactors::chainRule: wrong size");
   std::vector<double> gradient;
   forEachParameter(*this, [&](double value, const std::string&, int k, int j, int c) {
@@ -92,13 +93,18 @@ std::vector<double> WeightFactors::chainRule(const std::vector<Rgb>& d) const {
       for (int l = 0; l < lobes_; ++l) sum += d[std::size_t(k) * lobes_ + l][c];  // s_k^c
     gradient.push_back(sum / value);
   });
-  // Colour scales move colour only (normaliseColourScales): their gradient is projected onto
-  // sum_c ds_k^c = 0, the tangent of mean(s_k) = 1, so that s_k and w_k share no direction.
-  if (mode_ == ColourMode::kColourScales)
+  // Colour scales carry the brightness (normaliseColourScales): the w_k part of the gradient is
+  // projected onto the tangent of prod_j w_kj = 1 (normal n_j = 1 / w_kj), so that s_k and w_k
+  // share no direction.
+  if (gauge && mode_ == ColourMode::kColourScales)
     for (int k = 0; k < clusters_; ++k) {
-      double* s_k = &gradient[std::size_t(k) * (lobes_ + 3) + lobes_];
-      const double mean = (s_k[0] + s_k[1] + s_k[2]) / 3;
-      for (int c = 0; c < 3; ++c) s_k[c] -= mean;
+      double* g_k = &gradient[std::size_t(k) * (lobes_ + 3)];
+      double g_n = 0, n_n = 0;
+      for (int j = 0; j < lobes_; ++j) {
+        g_n += g_k[j] / w(k, j)[0];
+        n_n += 1 / (w(k, j)[0] * w(k, j)[0]);
+      }
+      for (int j = 0; j < lobes_; ++j) g_k[j] -= g_n / n_n / w(k, j)[0];
     }
   return gradient;
 }
@@ -106,10 +112,12 @@ std::vector<double> WeightFactors::chainRule(const std::vector<Rgb>& d) const {
 void WeightFactors::normaliseColourScales() {
   if (mode_ != ColourMode::kColourScales) return;
   for (int k = 0; k < clusters_; ++k) {
-    const double mean = average(s(k));
-    if (!(mean > 0)) continue;
-    s(k) /= mean;
-    for (int j = 0; j < lobes_; ++j) w(k, j) *= mean;
+    double log_mean = 0;
+    for (int j = 0; j < lobes_; ++j) log_mean += std::log(w(k, j)[0]) / lobes_;
+    const double mean = std::exp(log_mean);
+    if (!(mean > 0) || !std::isfinite(mean)) continue;
+    for (int j = 0; j < lobes_; ++j) w(k, j) /= mean;
+    s(k) *= mean;
   }
 }
 

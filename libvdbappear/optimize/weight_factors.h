@@ -54,11 +54,16 @@ class WeightFactors {
   std::vector<std::string> parameterNames() const;  // "w_0,1", "s_0.G", "w_1,0.R"
 
   // Chain rule: from dX/de_kj^c (per (k, j) an RGB, index k * lobes + j) to dX/dtheta. With colour
-  // scales, the s_k part is projected onto sum_c = 0 (the scales keep a channel mean of 1).
-  std::vector<double> chainRule(const std::vector<Rgb>& d_log_scale) const;
+  // scales, the w_k part is projected onto the tangent of the gauge below, sum_j dw_kj / w_kj = 0.
+  // gauge = false: without that projection (the effect of each parameter alone).
+  std::vector<double> chainRule(const std::vector<Rgb>& d_log_scale, bool gauge = true) const;
 
-  // Colour scales describe colour only: s_k is rescaled to a channel mean of 1 and w_k takes the
-  // difference (s w is unchanged; without this the pair has a direction in which nothing changes).
+  // The gauge of colour scales: s_k w_kj is all that renders, so one factor per cluster is free.
+  // w_k is rescaled to a geometric mean of 1 over its lobes and s_k takes the difference: s_k is the
+  // cluster's brightness per channel, w_k the balance of its lobes. (The other gauge, a channel mean
+  // of 1 for s_k, makes w_k and s_k^R nearly the same parameter on a red medium: on the red velvet
+  // its Gauss-Newton matrix had a direction of relative curvature 0.015, which took the first step
+  // to w = 1.5 and E from 0.15 to 0.60.) With one lobe, w = 1 and s_k is a factor per channel.
   void normaliseColourScales();
 
   // The JSON of the file metadata `weight_factors` (docs/medium.md §5): {"clusters", "lobes",

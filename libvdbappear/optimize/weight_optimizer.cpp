@@ -32,7 +32,7 @@ nlohmann::json IterationRecord::toJson(const std::vector<std::string>& names) co
     if (p < step.size()) steps[names[p]] = step[p];
   }
   return {{"t", t},         {"E", E},           {"factors", factors},          {"gradient", gradients},
-          {"step", steps},   {"limited", limited}, {"relative_change", relative_change}, {"seconds", seconds},
+          {"step", steps},   {"limited", limited}, {"shortened", shortened}, {"relative_change", relative_change}, {"seconds", seconds},
           {"E_per_image", per_image}};
 }
 
@@ -74,8 +74,9 @@ const IterationRecord& WeightOptimizer::iterate() {
   IterationRecord record;
   record.t = iteration() + 1;
   const TrainingError error = renderAll(factors_, record.t, true);
-  if (record.t == 1 || steps_.A.empty())
-    steps_ = tuneStepSizes(error.residuals, factors_, settings_.step_rule, settings_.step_b, settings_.step_scale);
+  gauss_newton_sum_ += gaussNewton(error.residuals, factors_);
+  steps_ = stepSizesFrom(gauss_newton_sum_.scaled(1.0 / record.t), settings_.step_rule, settings_.step_b,
+                         settings_.step_scale);
   record.E = error.E;
   record.per_image = error.per_image;
   record.relative_errors = error.relative_errors;
@@ -83,7 +84,11 @@ const IterationRecord& WeightOptimizer::iterate() {
   record.gradient = factors_.chainRule(error.dE_de);
   std::vector<double> theta = record.theta;
   const std::vector<double> change = steps_.update(record.gradient, record.t);
-  for (std::size_t p = 0; p < theta.size(); ++p) theta[p] -= change[p];  // Eq. 17
+  double longest = 0;
+  for (std::size_t p = 0; p < theta.size(); ++p) longest = std::max(longest, std::abs(change[p]) / theta[p]);
+  const double shorten = longest > kMaxRelativeChange ? kMaxRelativeChange / longest : 1.0;
+  record.shortened = shorten < 1;
+  for (std::size_t p = 0; p < theta.size(); ++p) theta[p] -= shorten * change[p];  // Eq. 17
   record.step = steps_.diagonal(record.t);
   factors_.setParameters(theta);
   record.limited = constrainFactors(layout_, factors_);
@@ -110,7 +115,7 @@ constexpr int kCheckpointVersion = 1;
 
 nlohmann::json recordJson(const IterationRecord& r) {
   return {{"t", r.t},       {"E", r.E},         {"theta", r.theta},     {"gradient", r.gradient},
-          {"step", r.step}, {"limited", r.limited}, {"relative_change", r.relative_change}, {"seconds", r.seconds},
+          {"step", r.step}, {"limited", r.limited}, {"shortened", r.shortened}, {"relative_change", r.relative_change}, {"seconds", r.seconds},
           {"per_image", r.per_image}};
 }
 
@@ -122,6 +127,7 @@ IterationRecord recordOf(const nlohmann::json& j) {
   r.gradient = j.at("gradient").get<std::vector<double>>();
   r.step = j.at("step").get<std::vector<double>>();
   r.limited = j.at("limited").get<bool>();
+  r.shortened = j.at("shortened").get<bool>();
   r.relative_change = j.at("relative_change").get<double>();
   r.seconds = j.at("seconds").get<double>();
   r.per_image = j.at("per_image").get<std::vector<double>>();
@@ -135,7 +141,7 @@ nlohmann::json WeightOptimizer::checkpoint(const nlohmann::json& inputs) const {
   for (const IterationRecord& r : history_) history.push_back(recordJson(r));
   return {{"format", kCheckpointFormat}, {"format_version", kCheckpointVersion}, {"version", kVersion},
           {"inputs", inputs},            {"iteration", iteration()},           {"factors", factors_.toJson()},
-          {"steps", steps_.toJson()},    {"history", history}};
+          {"steps", steps_.toJson()},    {"gauss_newton_sum", {{"H", gauss_newton_sum_.H}, {"D", gauss_newton_sum_.D}}}, {"history", history}};
 }
 
 void WeightOptimizer::resume(const nlohmann::json& checkpoint, const nlohmann::json& inputs) {
@@ -155,11 +161,17 @@ void WeightOptimizer::resume(const nlohmann::json& checkpoint, const nlohmann::j
     for (const nlohmann::json& r : checkpoint.at("history")) history.push_back(recordOf(r));
     if (int(history.size()) != checkpoint.at("iteration").get<int>()) throw std::invalid_argument("its history is incomplete");
     StepSizes steps = history.empty() ? StepSizes() : StepSizes::fromJson(checkpoint.at("steps"));
-    if (!history.empty() && steps.parameters() != factors.parameterCount())
+    GaussNewton gauss_newton_sum;
+    gauss_newton_sum.H = checkpoint.at("gauss_newton_sum").at("H").get<std::vector<double>>();
+    gauss_newton_sum.D = checkpoint.at("gauss_newton_sum").at("D").get<std::vector<double>>();
+    const std::size_t P = std::size_t(factors.parameterCount());
+    if (!history.empty() && (steps.parameters() != int(P) || gauss_newton_sum.H.size() != P * P ||
+                             gauss_newton_sum.D.size() != P))
       throw std::invalid_argument("its step sizes do not fit the factors");
     factors_ = std::move(factors);
     steps_ = std::move(steps);
     history_ = std::move(history);
+    gauss_newton_sum_ = std::move(gauss_newton_sum);
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(std::string("malformed checkpoint: ") + e.what());
   }

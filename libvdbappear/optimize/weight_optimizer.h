@@ -3,9 +3,10 @@
 // starting from w = 1 (and s = 1), each iteration t renders every training image of the reduced
 // medium with the current factors, twice with fresh seeds and with gradient images from the same
 // paths (Appendix A), estimates E (Eq. 14) and dE/dtheta (Eq. 16, chain rule of
-// optimize/weight_factors.h), and steps theta -= A / (t + b) dE/dtheta (Eq. 17-18, A tuned at
-// t = 1 by optimize/step_sizes.h), then keeps the factors feasible
-// (optimize/lobe_medium.h, constrainFactors).
+// optimize/weight_factors.h), and steps theta -= A / (t + b) dE/dtheta (Eq. 17-18, A from the mean
+// of the iterations' Gauss-Newton matrices by optimize/step_sizes.h), shortened when a factor would
+// change by more than kMaxRelativeChange, then keeps the factors feasible (optimize/lobe_medium.h,
+// constrainFactors).
 //
 // Convergence test: after at least min_iterations, stop when in each of the last three iterations
 // no factor changed by more than `tolerance` (relative); else stop after max_iterations.
@@ -25,6 +26,11 @@
 #include <vector>
 
 namespace vdbappear {
+
+// The trust region of one iteration: no factor changes by more than this (relative); a longer step
+// is shortened as a whole. Guards against steps along directions that one iteration's noisy
+// Jacobian mistakes for flat.
+inline constexpr double kMaxRelativeChange = 0.25;
 
 struct OptimizerSettings {
   ColourMode mode = ColourMode::kGrey;
@@ -53,6 +59,7 @@ struct IterationRecord {
   std::vector<std::vector<Rgb>> relative_errors;  // TrainingError::relative_errors (not checkpointed)
   double relative_change = 0;      // largest |theta_new - theta| / theta of this iteration's update
   bool limited = false;            // the effective-albedo limit changed the update
+  bool shortened = false;          // the trust region shortened the step
   double seconds = 0;
   nlohmann::json toJson(const std::vector<std::string>& names) const;  // a line of the JSON-lines log
 };
@@ -94,6 +101,7 @@ class WeightOptimizer {
   WeightFactors factors_;
   StepSizes steps_;
   std::vector<IterationRecord> history_;
+  GaussNewton gauss_newton_sum_;  // sum over the iterations
 };
 
 }  // namespace vdbappear
