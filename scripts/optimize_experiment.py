@@ -53,11 +53,6 @@ CASES = {
     "hairy_ball_two_4x_K2": ("hairy_ball_two", 4, 1, 2, 0, "Fig. 11: two materials, K = 2"),
 }
 
-HELD_OUT_LIGHTS = {
-    "env_map": lambda env: ["--env-map", str(env)],
-    "point_light": lambda env: None,  # set per medium: above the medium, with a ground
-}
-
 # The generalisation grid (coloured twill, 4x): held-out views (azimuth, elevation in degrees) x lights.
 GRID_VIEWS = {"three-quarter": (250, 40), "low": (160, 20), "high": (70, 65)}
 
@@ -118,37 +113,43 @@ class Experiment:
         return path
 
     def box(self, vdb):
-        """Centre and extent of the medium's box, from vdb_render's framing of +z."""
+        """The medium's world box (vdb_render --report): centre, radius of its bounding sphere, bottom."""
         if vdb not in self.bounds:
             r = json.loads(self.tool("vdb_render", vdb, "-o", self.out / "probe.png", "--res", "8", "--spp", "1",
-                                     "--view", "+x", "--report", "-").stdout)
-            target, position = r["camera"]["target"], r["camera"]["position"]
-            # The +x framing puts the camera at target + distance along x: recover the box size from a
-            # second, -z framing is not needed; the distance bounds the box's half diagonal.
-            self.bounds[vdb] = (target, position[0] - target[0])
+                                     "--report", "-").stdout)
+            lo, hi = r["bounds"]
+            centre = [(a + b) / 2 for a, b in zip(lo, hi)]
+            radius = math.dist(lo, hi) / 2
+            self.bounds[vdb] = (centre, radius, lo[2])
         return self.bounds[vdb]
 
     def camera(self, vdb, azimuth, elevation):
-        centre, distance = self.box(vdb)
+        """Looks at the box's centre from (azimuth, elevation), far enough for the bounding sphere to
+        fill 90% of the 30-degree field of view."""
+        centre, radius, _ = self.box(vdb)
         az, el = math.radians(azimuth), math.radians(elevation)
-        d = 1.1 * distance
+        d = radius / math.sin(math.radians(15)) / 0.9
         pos = [centre[0] + d * math.cos(el) * math.cos(az), centre[1] + d * math.cos(el) * math.sin(az),
                centre[2] + d * math.sin(el)]
         return ["--camera-pos", ",".join(f"{x:.4f}" for x in pos), "--camera-target",
                 ",".join(f"{x:.4f}" for x in centre), "--fov", "30"]
 
     def lights(self, vdb, kind):
-        centre, distance = self.box(vdb)
+        """Held-out lights, placed from the full medium's box; grounds at the full medium's bottom for
+        every medium compared (vdb_render's default ground follows each medium's own box, and a
+        reduction's box is rounded outward)."""
+        centre, radius, bottom = self.box(vdb)
+        ground = ["--ground", "--ground-height", f"{bottom:.6f}"]
         if kind == "env_map":
             return ["--env-map", self.sky]
         if kind == "point_light":  # hard shadows on a ground (Fig. 14)
-            p = [centre[0] + 0.3 * distance, centre[1] - 0.2 * distance, centre[2] + 0.6 * distance]
-            return ["--point-light", ",".join(f"{x:.4f}" for x in p) + f",{2.0 * distance * distance:.4f}",
-                    "--env", "0.03", "--ground"]
+            p = [centre[0] + 0.6 * radius, centre[1] - 0.4 * radius, centre[2] + 1.2 * radius]
+            return ["--point-light", ",".join(f"{x:.4f}" for x in p) + f",{4.0 * radius * radius:.4f}",
+                    "--env", "0.03", *ground]
         if kind == "sun_above":
             return ["--sun", "0.2,0.1,-1,3", "--env", "0.1"]
         if kind == "low_sun_ground":
-            return ["--sun", "1,0.3,-0.35,3", "--env", "0.1", "--ground"]
+            return ["--sun", "1,0.3,-0.35,3", "--env", "0.1", *ground]
         raise ValueError(kind)
 
     def render(self, vdb, exr, camera, lights, spp, seed=1, res=None):

@@ -193,6 +193,8 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
                                        {"up", {camera.up.x(), camera.up.y(), camera.up.z()}},
                                        {"fov", camera.fov_degrees}}}};
   if (medium) {
+    const Aabb box = medium->worldBounds();
+    report["bounds"] = {{box.lo.x(), box.lo.y(), box.lo.z()}, {box.hi.x(), box.hi.y(), box.hi.z()}};
     report["phase_function"] = phaseSourceName(medium->phaseSource());
     report["interp"] = interpolationName(medium->interpolation());
     report["majorant_voxels"] = medium->majorantVoxelCount();

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace vdbappear {
 
@@ -19,7 +20,7 @@ namespace {
 
 std::string hex128(XXH128_hash_t h) { return fmt::format("{:016x}{:016x}", h.high64, h.low64); }
 
-std::uint64_t checksum(const std::vector<float>& rgb) { return XXH3_64bits(rgb.data(), rgb.size() * sizeof(float)); }
+std::uint64_t checksum(const std::vector<float>& v) { return XXH3_64bits(v.data(), v.size() * sizeof(float)); }
 
 }  // namespace
 
@@ -65,12 +66,12 @@ std::optional<CachedImage> ReferenceCache::find(const std::string& key) const {
                                   "or give another --cache folder", path, version, format, kVersion, kFormat));
   if (image.width < 1 || image.height < 1 || image.width > 16384 || image.height > 16384)
     throw MediumError(fmt::format("{}: bad image size {}x{} in the header; delete it", path, image.width, image.height));
-  image.rgb.resize(std::size_t(image.width) * image.height * 3);
-  in.read(reinterpret_cast<char*>(image.rgb.data()), std::streamsize(image.rgb.size() * sizeof(float)));
-  if (std::size_t(in.gcount()) != image.rgb.size() * sizeof(float) || in.peek() != std::char_traits<char>::eof())
+  image.rgba.resize(std::size_t(image.width) * image.height * 4);
+  in.read(reinterpret_cast<char*>(image.rgba.data()), std::streamsize(image.rgba.size() * sizeof(float)));
+  if (std::size_t(in.gcount()) != image.rgba.size() * sizeof(float) || in.peek() != std::char_traits<char>::eof())
     throw MediumError(fmt::format("{}: truncated or too long ({} of {} bytes of pixels); delete it", path, in.gcount(),
-                                  image.rgb.size() * sizeof(float)));
-  if (fmt::format("{:016x}", checksum(image.rgb)) != sum)
+                                  image.rgba.size() * sizeof(float)));
+  if (fmt::format("{:016x}", checksum(image.rgba)) != sum)
     throw MediumError(fmt::format("{}: corrupt (checksum mismatch); delete it", path));
   return image;
 }
@@ -85,8 +86,10 @@ void ReferenceCache::store(const std::string& key, const CachedImage& image) con
   {
     std::ofstream out(file.temporaryPath(), std::ios::binary | std::ios::trunc);
     out << fmt::format("vdbappear-reference {} {} {} {} {:016x}\n", kFormat, kVersion, image.width, image.height,
-                       checksum(image.rgb));
-    out.write(reinterpret_cast<const char*>(image.rgb.data()), std::streamsize(image.rgb.size() * sizeof(float)));
+                       checksum(image.rgba));
+    if (image.rgba.size() != std::size_t(image.width) * image.height * 4)
+      throw std::invalid_argument("ReferenceCache::store: the image is not width x height x 4");
+    out.write(reinterpret_cast<const char*>(image.rgba.data()), std::streamsize(image.rgba.size() * sizeof(float)));
     out.close();
     if (!out) throw MediumError(fmt::format("{}: cannot write the cache file", path));
   }

@@ -5,8 +5,8 @@
 //
 // A cache file is a text header line
 //   vdbappear-reference FORMAT VERSION WIDTH HEIGHT CHECKSUM
-// then WIDTH * HEIGHT * 3 little-endian floats (RGB, row 0 at the top); CHECKSUM is the XXH3-64 of
-// those bytes in hex. Files are written through a temporary name and renamed. Light header.
+// then WIDTH * HEIGHT * 4 little-endian floats (R, G, B and the alpha AOV per pixel, row 0 at the
+// top); CHECKSUM is the XXH3-64 of those bytes in hex. Files are written through a temporary name and renamed. Light header.
 
 #include <cstdint>
 #include <optional>
@@ -22,12 +22,12 @@ std::string hashText(const std::string& text);
 
 struct CachedImage {
   int width = 0, height = 0;
-  std::vector<float> rgb;  // width * height * 3
+  std::vector<float> rgba;  // width * height * 4: RGB and alpha (RenderResult::alpha)
 };
 
 class ReferenceCache {
  public:
-  static constexpr int kFormat = 1;
+  static constexpr int kFormat = 2;
 
   // folder "": no cache (find finds nothing, store stores nothing). The folder is created on the
   // first store.

@@ -21,6 +21,14 @@ ClusterMasks::ClusterMasks(int pixels, int clusters, std::vector<std::uint8_t> i
   countPixels();
 }
 
+void ClusterMasks::restrictToForeground(const std::vector<float>& alpha, double threshold) {
+  if (alpha.size() != std::size_t(pixels_)) throw std::invalid_argument("ClusterMasks: alpha has another size");
+  for (int p = 0; p < pixels_; ++p)
+    if (!(alpha[p] > threshold))
+      for (int k = 0; k < clusters_; ++k) in_set_[std::size_t(p) * clusters_ + k] = 0;
+  countPixels();
+}
+
 void ClusterMasks::countPixels() {
   counts_.assign(clusters_, 0);
   foreground_count_ = 0;

@@ -25,6 +25,8 @@ class ClusterMasks {
   int clusters() const { return clusters_; }
   bool contains(int k, int pixel) const { return in_set_[std::size_t(pixel) * clusters_ + k] != 0; }
   int count(int k) const { return counts_[k]; }
+  // Drops from every set the pixels whose alpha (one value per pixel) is not above `threshold`.
+  void restrictToForeground(const std::vector<float>& alpha, double threshold = 0.5);
   // The union of the sets: the pixels where the medium is directly visible (the foreground of mean(I)).
   bool foreground(int pixel) const;
   int foregroundCount() const { return foreground_count_; }

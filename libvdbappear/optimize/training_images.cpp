@@ -76,21 +76,29 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     coverage.cluster_coverage = true;
     coverage.path.max_depth = 0;
     image.masks = ClusterMasks(reduced.render(i, coverage, nullptr));
-    // The reference image of the full medium: cached, or rendered and stored.
+    // The reference image of the full medium (RGB and alpha): cached, or rendered and stored.
     const std::string key = referenceKey(full_hash, image.config, settings);
-    std::vector<float> rgb;
+    CachedImage reference;
     if (std::optional<CachedImage> cached = cache.find(key);
         cached && cached->width == view.width && cached->height == view.height) {
-      rgb = std::move(cached->rgb);
+      reference = std::move(*cached);
       image.cache_hit = true;
     } else {
       const RenderScene scene = sceneOf(full, image.config);
       const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height),
                                          settingsOf(view, settings.reference_spp, settings.reference_seed, settings.path));
-      rgb = r.mean;
+      reference = {view.width, view.height, {}};
+      for (std::size_t p = 0; p < r.alpha.size(); ++p)
+        reference.rgba.insert(reference.rgba.end(), {r.mean[3 * p], r.mean[3 * p + 1], r.mean[3 * p + 2], r.alpha[p]});
       image.reference_seconds = r.seconds;
-      cache.store(key, {view.width, view.height, rgb});
+      cache.store(key, reference);
     }
+    std::vector<float> rgb, alpha;
+    for (std::size_t p = 0; p < reference.rgba.size() / 4; ++p) {
+      rgb.insert(rgb.end(), {reference.rgba[4 * p], reference.rgba[4 * p + 1], reference.rgba[4 * p + 2]});
+      alpha.push_back(reference.rgba[4 * p + 3]);
+    }
+    image.masks.restrictToForeground(alpha);
     image.reference = restrictedMeans(rgb, image.masks);
     const Rgb mean = foregroundMean(rgb, image.masks);
     image.normalisation = mean.max(0.05).inverse();

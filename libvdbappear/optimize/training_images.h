@@ -1,7 +1,8 @@
 #pragma once
 // The training images of the weight optimisation prepared once (§6.3 of the downsampling paper):
 // for each configuration, the scene of the reduced medium (re-rendered at every iteration with the
-// candidate factors), the pixel sets of the restricted means (the reduced medium's `cluster` AOV),
+// candidate factors), the pixel sets of the restricted means (the reduced medium's `cluster` AOV,
+// within the full medium's foreground: optimize/restricted_means.h),
 // and the reference: the full-resolution medium's restricted means mean_k(I_r) and the
 // normalisation c_r = 1 / max(mean(I_r), 0.05) per channel (Eq. 14), from a render that is cached
 // on disk (optimize/reference_cache.h). Light header.

@@ -100,12 +100,15 @@ void addBand2(std::vector<TrainingLighting>& out) {
   }
 }
 
+// Five suns from the upper hemisphere over a dim sky: one from the zenith and four from the box's
+// diagonal azimuths (45, 135, 225, 315 degrees) at an elevation of 35 degrees.
 void addSuns(std::vector<TrainingLighting>& out) {
-  const char* names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
-  for (int i = 0; i < 6; ++i) {
-    Vec3 toward = Vec3::Zero();
-    toward[i / 2] = i % 2 ? -1 : 1;
-    out.push_back({std::string("sun") + names[i],
+  out.push_back({"sun+z", {sky(0.1), {{"type", "sun"}, {"direction", {0.0, 0.0, -1.0}}, {"strength", 3.0}}}});
+  const double elevation = 35 * kPi / 180;
+  for (int i = 0; i < 4; ++i) {
+    const double azimuth = (45 + 90 * i) * kPi / 180;
+    const Vec3 toward(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+    out.push_back({"sun" + std::to_string(45 + 90 * i),
                    {sky(0.1), {{"type", "sun"}, {"direction", {-toward.x(), -toward.y(), -toward.z()}}, {"strength", 3.0}}}});
   }
 }

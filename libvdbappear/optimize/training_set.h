@@ -8,8 +8,8 @@
 // poor normalisation. The same four-dimensional space of lights is spanned by non-negative ones:
 // a constant sky L = 1 and the three skies L = 1 + w.a (a = +x, +y, +z, brightest looking toward a,
 // zero opposite), which is what "sh1" renders. "sh0" is the constant sky alone; "sh2" adds the
-// nine skies 1 + Y_2m / max|Y_2m| (Fig. 13's band 2); "sun" adds six suns travelling along -a for
-// each axis direction a, over a dim sky (harsh light, for the held-out study of
+// nine skies 1 + Y_2m / max|Y_2m| (Fig. 13's band 2); "sun" adds five suns over a dim sky, from the
+// zenith and from the four diagonal azimuths at an elevation of 35 degrees (harsh light; see
 // docs/optimize.md). The modifier "ground" puts a diffuse ground (albedo 0.5) under the medium in
 // every lighting: light from below then comes only from the ground's bounce. Light header.
 

@@ -202,7 +202,7 @@ TEST(OptimizeWeightsCli, DamagedCacheFilesAndCheckpointsAreRefused) {
   std::ofstream(refs[0], std::ios::binary | std::ios::trunc) << bytes.substr(0, bytes.size() - 100);
   expectRefused(m, m.args("--cache " + quote(cache)), refs[0] + ": truncated");
   std::string other_version = bytes;
-  other_version.replace(other_version.find(" 1 ") + 3, 0, "9");  // version 0.1.0 -> 90.1.0
+  other_version.replace(other_version.find(" 2 ") + 3, 0, "9");  // format 2, version 0.1.0 -> 90.1.0
   std::ofstream(refs[0], std::ios::binary | std::ios::trunc) << other_version;
   expectRefused(m, m.args("--cache " + quote(cache)), refs[0] + ": written by vdbappear 9");
 

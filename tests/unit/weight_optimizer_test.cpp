@@ -289,10 +289,11 @@ TEST(ReferenceCache, StoresFindsAndRefusesDamagedFiles) {
   test::TempDir dir;
   const ReferenceCache cache(dir.path("cache"));
   EXPECT_FALSE(cache.find("abc"));
-  cache.store("abc", {2, 1, {1, 2, 3, 4, 5, 6}});
+  cache.store("abc", {2, 1, {1, 2, 3, 0.5, 4, 5, 6, 1}});
   const auto found = cache.find("abc");
   ASSERT_TRUE(found);
-  EXPECT_EQ(found->rgb, (std::vector<float>{1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(found->rgba, (std::vector<float>{1, 2, 3, 0.5, 4, 5, 6, 1}));
+  EXPECT_THROW(cache.store("abc", {2, 1, {1, 2, 3}}), std::invalid_argument);
   const std::string path = cache.pathOf("abc");
   std::string bytes;
   {
@@ -306,7 +307,7 @@ TEST(ReferenceCache, StoresFindsAndRefusesDamagedFiles) {
   rewrite(bytes.substr(0, bytes.size() - 5));  // truncated
   EXPECT_THROW(cache.find("abc"), MediumError);
   std::string other_version = bytes;
-  other_version.replace(other_version.find(' ', 20), 1, "9 ");  // the version field grows
+  other_version.replace(other_version.find(" 2 ") + 3, 0, "9");  // version 0.1.0 -> 90.1.0
   rewrite(other_version);
   EXPECT_THROW(cache.find("abc"), MediumError);
   std::string corrupt = bytes;
