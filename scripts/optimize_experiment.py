@@ -95,12 +95,14 @@ class Experiment:
         self.bin = pathlib.Path(args.build) / "bin"
         self.out = pathlib.Path(args.out)
         self.spp = args.spp
+        self.optimize_flags = args.optimize_flags.split()
         self.size = args.size
         self.out.mkdir(parents=True, exist_ok=True)
         self.sky = self.out / "sky.pfm"
         write_sky(self.sky)
         self.cache = self.out / "cache"
-        shutil.rmtree(self.cache, ignore_errors=True)  # optimisation times include rendering the references
+        if not args.keep_cache:
+            shutil.rmtree(self.cache, ignore_errors=True)  # optimisation times include rendering the references
         self.bounds = {}
 
     def tool(self, name, *args):
@@ -209,7 +211,7 @@ class Experiment:
         optimised, log = folder / "optimised.vdb", folder / "run.jsonl"
         start = time.monotonic()
         self.tool("vdb_optimize_weights", full, naive, optimised, "--cache", self.cache, "--log", log,
-                  "--report", folder / "optimize.json")
+                  "--report", folder / "optimize.json", *self.optimize_flags)
         wall = time.monotonic() - start
         report = json.loads((folder / "optimize.json").read_text())
         try:
@@ -283,6 +285,8 @@ def main():
     parser.add_argument("--spp", type=int, default=128, help="samples per pixel of the held-out renders")
     parser.add_argument("--size", default="240x180", help="held-out image size")
     parser.add_argument("--no-grid", action="store_true", help="skip the generalisation grid")
+    parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
+    parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
     args = parser.parse_args()
     experiment = Experiment(args)
     results, timings = {}, {}

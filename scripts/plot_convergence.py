@@ -11,6 +11,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 
 def main():
@@ -32,6 +33,8 @@ def main():
     right.set(xlabel="iteration t", ylabel="factor", title="factors w_k,j and colour scales s_k")
     right.grid(True, alpha=0.3)
     right.legend(fontsize="small", ncol=2 if len(names) > 8 else 1)
+    for axis in (left, right):
+        axis.xaxis.set_major_locator(MaxNLocator(integer=True))
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(out, dpi=110)

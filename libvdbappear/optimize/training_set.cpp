@@ -11,18 +11,35 @@ namespace vdbappear {
 
 namespace {
 
-// A side (+x ... -z) or a corner (+x+y+z ... -x-y-z): the unit direction toward the camera.
+// A side (+x ... -z), an edge (+x+y, -x+z, +y-z, ...) or a corner (+x+y+z ... -x-y-z) of the box:
+// the unit direction toward the camera. Axes appear in the order x, y, z, each at most once.
 std::optional<Vec3> directionOf(const std::string& name) {
-  const auto sign = [](char c) { return c == '+' ? 1.0 : c == '-' ? -1.0 : 0.0; };
+  if (name.empty() || name.size() % 2 != 0 || name.size() > 6) return std::nullopt;
   Vec3 d = Vec3::Zero();
-  if (name.size() == 2 && name[1] >= 'x' && name[1] <= 'z') {
-    d[name[1] - 'x'] = sign(name[0]);
-  } else if (name.size() == 6 && name[1] == 'x' && name[3] == 'y' && name[5] == 'z') {
-    d = Vec3(sign(name[0]), sign(name[2]), sign(name[4]));
-    if (d.cwiseAbs().minCoeff() == 0) return std::nullopt;
+  int last_axis = -1;
+  for (std::size_t i = 0; i < name.size(); i += 2) {
+    const int axis = name[i + 1] - 'x';
+    if ((name[i] != '+' && name[i] != '-') || axis < 0 || axis > 2 || axis <= last_axis) return std::nullopt;
+    d[axis] = name[i] == '+' ? 1 : -1;
+    last_axis = axis;
   }
-  if (d.isZero()) return std::nullopt;
   return d.normalized();
+}
+
+// The 26 directions of the box's faces, edges and corners, by name.
+std::vector<std::string> boxDirections(int axes) {
+  std::vector<std::string> out;
+  for (int x = -1; x <= 1; ++x)
+    for (int y = -1; y <= 1; ++y)
+      for (int z = -1; z <= 1; ++z) {
+        if (std::abs(x) + std::abs(y) + std::abs(z) != axes) continue;
+        std::string name;
+        if (x) name += std::string(x > 0 ? "+" : "-") + "x";
+        if (y) name += std::string(y > 0 ? "+" : "-") + "y";
+        if (z) name += std::string(z > 0 ? "+" : "-") + "z";
+        out.push_back(name);
+      }
+  return out;
 }
 
 std::vector<std::string> splitViews(const std::string& list) {
@@ -34,18 +51,28 @@ std::vector<std::string> splitViews(const std::string& list) {
       if (seen == view) throw std::invalid_argument("training views '" + list + "': " + view + " twice");
     out.push_back(view);
   };
+  const auto upper = [](const std::string& name) { return name.size() >= 2 && name.substr(name.size() - 2) == "+z"; };
   while (std::getline(in, item, ',')) {
+    const bool keyword = item == "faces" || item == "edges" || item == "corners" || item == "upper-edges" ||
+                         item == "upper-corners" || item == "upper-hemisphere";
     if (item == "faces") {
       for (const char* side : {"+x", "-x", "+y", "-y", "+z", "-z"}) add(side);
-    } else if (item == "corners" || item == "upper-corners") {
-      for (const char* c : {"+x+y+z", "-x+y+z", "+x-y+z", "-x-y+z", "+x+y-z", "-x+y-z", "+x-y-z", "-x-y-z"})
-        if (item == "corners" || c[4] == '+') add(c);
+    } else if (item == "upper-hemisphere") {
+      add("+z");
+      for (const std::string& name : boxDirections(2))
+        if (upper(name)) add(name);
+      for (const std::string& name : boxDirections(3))
+        if (upper(name)) add(name);
+    } else if (keyword) {
+      const bool corners = item.find("corners") != std::string::npos;
+      for (const std::string& name : boxDirections(corners ? 3 : 2))
+        if (item.rfind("upper-", 0) != 0 || upper(name)) add(name);
     } else if (directionOf(item)) {
       add(item);
     } else {
       throw std::invalid_argument("training views '" + list + "': '" + item +
-                                  "' is not a side (+x ... -z), a corner (+x+y+z ... -x-y-z), faces, corners or "
-                                  "upper-corners");
+                                  "' is not a side (+x ... -z), an edge (+x+y ... -y-z), a corner (+x+y+z ... -x-y-z) "
+                                  "or one of faces, edges, corners, upper-edges, upper-corners, upper-hemisphere");
     }
   }
   if (out.empty()) throw std::invalid_argument("training views: empty list");

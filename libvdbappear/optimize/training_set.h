@@ -42,10 +42,12 @@ struct TrainingConfig {
 };
 
 // Views framed on `box` (vertical fov 30), each image `resolution` pixels on its long side with the
-// aspect of the box's outline (at least 8 on the short). views: a comma-separated list of sides
-// (+x ... -z: the views of Fig. 7, render/camera.h framedView), corners (+x+y+z ... -x-y-z: along
-// the box's diagonals, framedDirection), and the words faces (the six sides), corners (the eight)
-// and upper-corners (the four with +z). Throws std::invalid_argument for anything else.
+// aspect of the box's outline (at least 8 on the short). views: a comma-separated list of the 26
+// directions of the box's sides (+x ... -z: the views of Fig. 7, render/camera.h framedView), edges
+// (+x+y, -x+z, +y-z, ...) and corners (+x+y+z ... -x-y-z; framedDirection), axes in the order x, y,
+// z, and the words faces (the six sides), edges (the twelve), corners (the eight), upper-edges and
+// upper-corners (those with +z) and upper-hemisphere (+z, the upper edges and corners: nine views
+// every 45 degrees of azimuth). Throws std::invalid_argument for anything else.
 inline constexpr const char* kFaces = "faces";
 std::vector<TrainingView> boundingBoxViews(const Aabb& box, int resolution, const std::string& sides = kFaces);
 
