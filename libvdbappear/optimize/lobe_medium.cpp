@@ -158,22 +158,38 @@ std::string mediumContentHash(const Medium& medium) {
   return fmt::format("{:016x}{:016x}", h.high64, h.low64);
 }
 
+namespace {
+
+// The largest effective albedo sum_j W_ij^c of cluster k's voxels, per channel.
+Rgb largestEffectiveAlbedo(const LobeMediumLayout& layout, const WeightFactors& factors, int k) {
+  const std::vector<float>& B = layout.naive_weights[k];
+  const int m = layout.lobes;
+  Rgb largest = Rgb::Zero();
+  for (std::size_t v = 0; v < B.size(); v += 3 * m) {
+    Rgb albedo = Rgb::Zero();
+    for (int j = 0; j < m && j < factors.lobes(); ++j)
+      albedo += Rgb(B[v + 3 * j], B[v + 3 * j + 1], B[v + 3 * j + 2]) * factors.s(k) * factors.w(k, j);
+    largest = largest.max(albedo);
+  }
+  return largest;
+}
+
+}  // namespace
+
+bool isFeasible(const LobeMediumLayout& layout, const WeightFactors& factors) {
+  for (int k = 0; k < factors.clusters() && k < int(layout.naive_weights.size()); ++k)
+    if ((largestEffectiveAlbedo(layout, factors, k) > 1).any()) return false;
+  return true;
+}
+
 bool constrainFactors(const LobeMediumLayout& layout, WeightFactors& factors) {
   for (int k = 0; k < factors.clusters(); ++k)
     for (int j = 0; j < factors.lobes(); ++j) factors.w(k, j) = factors.w(k, j).max(kMinFactor);
   if (factors.mode() == ColourMode::kColourScales)
     for (int k = 0; k < factors.clusters(); ++k) factors.s(k) = factors.s(k).max(kMinFactor);
   bool limited = false;
-  const int m = layout.lobes;
   for (int k = 0; k < factors.clusters() && k < int(layout.naive_weights.size()); ++k) {
-    const std::vector<float>& B = layout.naive_weights[k];
-    Rgb largest = Rgb::Zero();  // the cluster's largest effective albedo per channel
-    for (std::size_t v = 0; v < B.size(); v += 3 * m) {
-      Rgb albedo = Rgb::Zero();
-      for (int j = 0; j < m && j < factors.lobes(); ++j)
-        albedo += Rgb(B[v + 3 * j], B[v + 3 * j + 1], B[v + 3 * j + 2]) * factors.s(k) * factors.w(k, j);
-      largest = largest.max(albedo);
-    }
+    const Rgb largest = largestEffectiveAlbedo(layout, factors, k);
     if (!(largest > 1).any()) continue;
     limited = true;
     const Rgb excess = largest.max(1.0);

@@ -47,5 +47,7 @@ std::string mediumContentHash(const Medium& medium);
 // Returns true when the albedo limit changed something.
 inline constexpr double kMinFactor = 0.01;
 bool constrainFactors(const LobeMediumLayout& layout, WeightFactors& factors);
+// Is every voxel's effective albedo at most 1 per channel?
+bool isFeasible(const LobeMediumLayout& layout, const WeightFactors& factors);
 
 }  // namespace vdbappear

@@ -18,7 +18,11 @@ RenderScene sceneOf(std::shared_ptr<const MediumView> medium, const TrainingConf
   });
 }
 
-RenderSettings settingsOf(const TrainingView& view, int spp, std::uint64_t seed, const PathSettings& path) {
+nlohmann::json vectorJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+RenderSettings trainingRenderSettings(const TrainingView& view, int spp, std::uint64_t seed, const PathSettings& path) {
   RenderSettings s;
   s.width = view.width;
   s.height = view.height;
@@ -27,10 +31,6 @@ RenderSettings settingsOf(const TrainingView& view, int spp, std::uint64_t seed,
   s.path = path;
   return s;
 }
-
-nlohmann::json vectorJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-}  // namespace
 
 TrainingScenes::TrainingScenes(std::shared_ptr<const MediumView> reduced, const std::vector<TrainingConfig>& configs)
     : configs_(configs) {
@@ -72,7 +72,7 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     image.config = reduced.config(i);
     const TrainingView& view = image.config.view;
     // Pixel sets: where the reduced medium's clusters are directly visible (camera rays only).
-    RenderSettings coverage = settingsOf(view, settings.mask_spp, settings.reference_seed, settings.path);
+    RenderSettings coverage = trainingRenderSettings(view, settings.mask_spp, settings.reference_seed, settings.path);
     coverage.cluster_coverage = true;
     coverage.path.max_depth = 0;
     image.masks = ClusterMasks(reduced.render(i, coverage, nullptr));
@@ -86,7 +86,7 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     } else {
       const RenderScene scene = sceneOf(full, image.config);
       const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height),
-                                         settingsOf(view, settings.reference_spp, settings.reference_seed, settings.path));
+                                         trainingRenderSettings(view, settings.reference_spp, settings.reference_seed, settings.path));
       reference = {view.width, view.height, {}};
       for (std::size_t p = 0; p < r.alpha.size(); ++p)
         reference.rgba.insert(reference.rgba.end(), {r.mean[3 * p], r.mean[3 * p + 1], r.mean[3 * p + 2], r.alpha[p]});

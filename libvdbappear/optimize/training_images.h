@@ -35,6 +35,9 @@ struct TrainingRenderSettings {
   PathSettings path;
 };
 
+// Render settings of a training view: its size, spp, seed and path settings.
+RenderSettings trainingRenderSettings(const TrainingView& view, int spp, std::uint64_t seed, const PathSettings& path);
+
 // The reduced medium under every training configuration.
 class TrainingScenes {
  public:

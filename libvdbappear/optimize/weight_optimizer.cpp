@@ -49,14 +49,9 @@ TrainingError WeightOptimizer::renderAll(const WeightFactors& factors, std::int6
   const auto scales = std::make_shared<const LobeWeightScales>(factors.scales());
   TrainingError error;
   for (std::size_t i = 0; i < images_.size(); ++i) {
-    const TrainingView& view = images_[i].config.view;
-    RenderSettings s;
-    s.width = view.width;
-    s.height = view.height;
-    s.spp = settings_.spp / 2;
-    s.path = settings_.path;
+    RenderSettings s = trainingRenderSettings(images_[i].config.view, settings_.spp / 2,
+                                              hashKeys(settings_.seed, {key, std::int64_t(i), 0}), settings_.path);
     s.weight_gradients = gradients;
-    s.seed = hashKeys(settings_.seed, {key, std::int64_t(i), 0});
     const RenderResult a = scenes_.render(i, s, scales);
     s.seed = hashKeys(settings_.seed, {key, std::int64_t(i), 1});
     const RenderResult b = scenes_.render(i, s, scales);
@@ -82,18 +77,35 @@ const IterationRecord& WeightOptimizer::iterate() {
   record.relative_errors = error.relative_errors;
   record.theta = factors_.parameters();
   record.gradient = factors_.chainRule(error.dE_de);
-  std::vector<double> theta = record.theta;
   const std::vector<double> change = steps_.update(record.gradient, record.t);
-  double longest = 0;
-  for (std::size_t p = 0; p < theta.size(); ++p) longest = std::max(longest, std::abs(change[p]) / theta[p]);
-  const double shorten = longest > kMaxRelativeChange ? kMaxRelativeChange / longest : 1.0;
-  record.shortened = shorten < 1;
-  for (std::size_t p = 0; p < theta.size(); ++p) theta[p] -= shorten * change[p];  // Eq. 17
   record.step = steps_.diagonal(record.t);
-  factors_.setParameters(theta);
-  record.limited = constrainFactors(layout_, factors_);
+  double longest = 0;
+  for (std::size_t p = 0; p < change.size(); ++p) longest = std::max(longest, std::abs(change[p]) / record.theta[p]);
+  double length = longest > kMaxRelativeChange ? kMaxRelativeChange / longest : 1.0;
+  record.shortened = length < 1;
+  // Feasibility (every effective albedo <= 1): a step that leaves it is shortened to stay inside
+  // (bisection), rather than projected back by scaling a whole cluster down, which would turn a
+  // change of lobe balance into a loss of brightness.
+  const auto stepped = [&](double a) {
+    WeightFactors f = factors_;
+    std::vector<double> t = record.theta;
+    for (std::size_t p = 0; p < t.size(); ++p) t[p] = std::max(kMinFactor, t[p] - a * change[p]);  // Eq. 17
+    f.setParameters(t);
+    return f;
+  };
+  if (!isFeasible(layout_, stepped(length)) && isFeasible(layout_, factors_)) {
+    double inside = 0, outside = length;
+    for (int i = 0; i < 30; ++i) {
+      const double middle = (inside + outside) / 2;
+      (isFeasible(layout_, stepped(middle)) ? inside : outside) = middle;
+    }
+    length = inside;
+    record.limited = true;
+  }
+  factors_ = stepped(length);
+  record.limited |= constrainFactors(layout_, factors_);
   const std::vector<double> updated = factors_.parameters();
-  for (std::size_t p = 0; p < theta.size(); ++p)
+  for (std::size_t p = 0; p < updated.size(); ++p)
     record.relative_change = std::max(record.relative_change, std::abs(updated[p] - record.theta[p]) / record.theta[p]);
   record.seconds = clock.seconds();
   history_.push_back(std::move(record));

@@ -5,8 +5,8 @@
 // paths (Appendix A), estimates E (Eq. 14) and dE/dtheta (Eq. 16, chain rule of
 // optimize/weight_factors.h), and steps theta -= A / (t + b) dE/dtheta (Eq. 17-18, A from the mean
 // of the iterations' Gauss-Newton matrices by optimize/step_sizes.h), shortened when a factor would
-// change by more than kMaxRelativeChange, then keeps the factors feasible (optimize/lobe_medium.h,
-// constrainFactors).
+// change by more than kMaxRelativeChange or leave the feasible set (every effective albedo at most
+// 1: then shortened by bisection to its edge), then applies constrainFactors (optimize/lobe_medium.h).
 //
 // Convergence test: after at least min_iterations, stop when in each of the last three iterations
 // no factor changed by more than `tolerance` (relative); else stop after max_iterations.
@@ -58,7 +58,7 @@ struct IterationRecord {
   std::vector<double> per_image;   // E of each training image
   std::vector<std::vector<Rgb>> relative_errors;  // TrainingError::relative_errors (not checkpointed)
   double relative_change = 0;      // largest |theta_new - theta| / theta of this iteration's update
-  bool limited = false;            // the effective-albedo limit changed the update
+  bool limited = false;            // the effective-albedo limit shortened or changed the update
   bool shortened = false;          // the trust region shortened the step
   double seconds = 0;
   nlohmann::json toJson(const std::vector<std::string>& names) const;  // a line of the JSON-lines log

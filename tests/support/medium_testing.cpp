@@ -1,6 +1,8 @@
 #include "medium_testing.h"
 
+#include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/procedural/weave_medium.h"
 
 namespace vdbappear::test {
 
@@ -22,6 +24,17 @@ openvdb::GridPtrVec copyGrids(const Medium& medium) {
   openvdb::GridPtrVec grids;
   for (const auto& grid : medium.grids()) grids.push_back(grid->deepCopyGrid());
   return grids;
+}
+
+MediumPtr multiLobeTwill(int resolution, int yarns, int factor, int lobes, int clusters) {
+  WeaveParams weave;
+  weave.resolution = resolution;
+  weave.yarns = yarns;
+  MultiLobeOptions options;
+  options.factor = factor;
+  options.fit.forced_lobes = lobes;
+  options.clustering.clusters = clusters;
+  return downsampleMultiLobe(*makeWeave(weave), options).medium;
 }
 
 }  // namespace vdbappear::test

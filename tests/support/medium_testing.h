@@ -17,6 +17,11 @@ void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, cons
 // makeRandomMedium with default parameters but for the extent and seed.
 MediumPtr randomMedium(int extent, std::uint64_t seed = 1);
 
+// The coloured twill (makeWeave: `resolution` voxels across, `yarns` yarns) reduced by `factor` with
+// exactly `lobes` lobes per voxel and `clusters` voxel clusters (downsampleMultiLobe), as
+// vdb_lobe_cluster writes it.
+MediumPtr multiLobeTwill(int resolution, int yarns, int factor, int lobes, int clusters);
+
 // An empty grid named `name` with the medium's transform, to add as an extra grid.
 template <typename GridT = openvdb::FloatGrid>
 typename GridT::Ptr namedGridLike(const Medium& medium, const std::string& name,

@@ -4,7 +4,6 @@
 // (cluster, lobe) factor and every colour scale. Negative controls: gradients that are 10% off, or
 // of the other cluster, fail the same comparison.
 #include "libvdbappear/io/medium.h"
-#include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/medium/medium_view.h"
@@ -132,14 +131,7 @@ struct TwillScene {
   RenderSettings settings;
 
   TwillScene() {
-    WeaveParams weave;
-    weave.resolution = 48;
-    weave.yarns = 4;
-    MultiLobeOptions options;
-    options.factor = 4;
-    options.fit.forced_lobes = 2;
-    options.clustering.clusters = 2;
-    view = std::make_shared<MediumView>(downsampleMultiLobe(*makeWeave(weave), options).medium, Interpolation::kNearest);
+    view = std::make_shared<MediumView>(test::multiLobeTwill(48, 4, 4, 2, 2), Interpolation::kNearest);
     const Aabb box = view->worldBounds();
     pose = {box.centre() + Vec3(-0.8, -0.9, 1.2) * box.extent().norm(), box.centre(), Vec3(0, 0, 1), 40};
     settings.width = settings.height = 24;
@@ -280,7 +272,7 @@ TEST(TwillGradients, ImageUnchangedByGradients) {
 TEST(GradientImages, RefusedWithoutLobesOrClusters) {
   WeaveParams weave;
   weave.resolution = 24;
-  const auto view = std::make_shared<MediumView>(makeWeave(weave), Interpolation::kNearest);
+  const auto view = std::make_shared<MediumView>(makeWeave(weave), Interpolation::kNearest);  // one lobe, no clusters
   RenderSettings settings;
   settings.width = settings.height = 4;
   settings.spp = 1;

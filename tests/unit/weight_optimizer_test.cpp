@@ -5,7 +5,6 @@
 // made its own references.
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/math/constants.h"
-#include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/math/spherical_harmonics.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/optimize/lobe_medium.h"
@@ -15,10 +14,10 @@
 #include "libvdbappear/optimize/training_set.h"
 #include "libvdbappear/optimize/weight_factors.h"
 #include "libvdbappear/optimize/weight_optimizer.h"
-#include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/medium_testing.h"
 #include "support/temp_dir.h"
 #include "support/test_random.h"
 
@@ -322,14 +321,7 @@ TEST(ReferenceCache, StoresFindsAndRefusesDamagedFiles) {
 // The SGD recovers factors that made its own references: the 2-cluster, 2-lobe twill rendered with
 // known factors per cluster (both lobes alike) and colour scales stands in for the full medium.
 TEST(WeightOptimizer, RecoversTheFactorsThatMadeTheReferences) {
-  WeaveParams weave;
-  weave.resolution = 48;
-  weave.yarns = 4;
-  MultiLobeOptions options;
-  options.factor = 4;
-  options.fit.forced_lobes = 2;
-  options.clustering.clusters = 2;
-  const MediumPtr lobes = downsampleMultiLobe(*makeWeave(weave), options).medium;
+  const MediumPtr lobes = test::multiLobeTwill(48, 4, 4, 2, 2);
   const LobeMediumLayout layout = inspectLobeMedium(*lobes);
   const auto view = std::make_shared<MediumView>(lobes, Interpolation::kNearest);
   WeightFactors truth(2, 2, ColourMode::kColourScales);
