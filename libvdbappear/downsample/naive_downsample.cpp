@@ -201,12 +201,13 @@ bool isMultiLobeOrClusterGrid(const std::string& name) {
   return isLobeGridName(name) || name == grid_names::kCluster || name == grid_names::kPhaseId;
 }
 
-// Grids other than the base grids: pass the phase table through, refuse what cannot be averaged.
+// Grids other than the base grids: pass the phase table and the block-indexed exemplar grids
+// through, refuse what cannot be averaged.
 void carryOtherGrids(const Medium& fine, const openvdb::math::Transform::Ptr& transform, Medium& coarse,
                      std::vector<std::string>& warnings) {
   for (const auto& grid : fine.other_grids) {
     const std::string name = grid->getName();
-    if (name == grid_names::kPhaseTable) {  // not spatial: indexed by (bin, id, 0)
+    if (name == grid_names::kPhaseTable || isBlockIndexedGridName(name)) {  // not indexed by voxel
       auto copy = grid->deepCopyGrid();
       copy->setTransform(transform);
       coarse.other_grids.push_back(copy);
@@ -221,6 +222,12 @@ void carryOtherGrids(const Medium& fine, const openvdb::math::Transform::Ptr& tr
   }
 }
 
+// exemplar_block counts the fine medium's voxels: say so, once (docs/medium.md, section 6b).
+void pinExemplarVoxelSize(const Medium& fine, Medium& coarse) {
+  if (!fine.metadata[metadata_names::kExemplarBlock] || fine.metadata[metadata_names::kExemplarVoxelSize]) return;
+  coarse.metadata.insertMeta(metadata_names::kExemplarVoxelSize, openvdb::Vec3DMetadata(fine.transform().voxelSize()));
+}
+
 }  // namespace
 
 DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& options, ProgressBar* progress) {
@@ -231,6 +238,7 @@ DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& op
   DownsampleResult result;
   const MediumPtr coarse = makeEmptyMedium({bool(fine.albedo), fine.hasSggx(), bool(fine.hg_g)}, transform);
   coarse->metadata = fine.metadata;
+  pinExemplarVoxelSize(fine, *coarse);
   coarse->source = fine.source;
   carryOtherGrids(fine, transform, *coarse, result.warnings);
 

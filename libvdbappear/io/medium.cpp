@@ -21,6 +21,10 @@ bool isLobeGridName(const std::string& name) {
   return std::regex_match(name, lobe);
 }
 
+bool isBlockIndexedGridName(const std::string& name) {
+  return name == grid_names::kExemplarLayout || name == grid_names::kExemplarStacking;
+}
+
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata) {
   if (auto f = metadata.getMetadata<openvdb::FloatMetadata>(metadata_names::kHgG)) return f->value();
   if (auto d = metadata.getMetadata<openvdb::DoubleMetadata>(metadata_names::kHgG)) return d->value();

@@ -22,6 +22,7 @@ inline constexpr const char* kCluster = "cluster";
 inline constexpr const char* kPhaseId = "phase_id";
 inline constexpr const char* kPhaseTable = "phase_table";
 inline constexpr const char* kExemplarLayout = "exemplar_layout";  // Int32Grid: (i,j,k) -> exemplar id
+inline constexpr const char* kExemplarStacking = "exemplar_stacking";  // Int32Grid: stacked block -> exemplar id
 }  // namespace grid_names
 
 // Values of the base grids where a medium has no such grid (docs/medium.md, section 3).
@@ -39,6 +40,9 @@ inline constexpr const char* kHgG = "hg_g";
 inline constexpr int kSchemaVersion = 1;
 inline constexpr const char* kExemplarCount = "exemplar_count";  // int N
 inline constexpr const char* kExemplarBlock = "exemplar_block";  // vec3i: voxels per block along x,y,z
+inline constexpr const char* kExemplarVoxelSize = "exemplar_voxel_size";  // vec3d: the voxels exemplar_block counts
+inline constexpr const char* kExemplarKind = "exemplar_kind";  // string: blocks, stacked, model
+inline constexpr const char* kExemplarSet = "exemplar_set";    // string: "xxh3:HASH NAME" of the block set
 }  // namespace metadata_names
 
 // Grid values to and from the library's double-precision vectors.
@@ -73,6 +77,9 @@ typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name)
 
 // lobe{j}_diag, lobe{j}_offdiag, lobe{j}_fraction, lobe{j}_weight (j = 0, 1, ...): multi-lobe grids.
 bool isLobeGridName(const std::string& name);
+
+// exemplar_layout, exemplar_stacking: indexed by block, not by voxel (docs/medium.md, section 6b).
+bool isBlockIndexedGridName(const std::string& name);
 
 // The constant HG asymmetry stored as file metadata `hg_g` (float or double), if any.
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata);

@@ -142,7 +142,7 @@ std::optional<std::vector<std::string>> requiredValueTypes(const std::string& na
   if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
   if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
-  if (name == grid_names::kCluster || name == grid_names::kPhaseId || name == grid_names::kExemplarLayout)
+  if (name == grid_names::kCluster || name == grid_names::kPhaseId || isBlockIndexedGridName(name))
     return Types{"int32"};
   if (isLobeGridName(name)) return Types{name.substr(name.rfind('_')) == "_fraction" ? "float" : "vec3s"};
   return std::nullopt;
@@ -225,10 +225,11 @@ void checkMetadata(const Medium& medium, const std::string& source) {
   }
 }
 
-// exemplar_layout: ids in 0..exemplar_count-1, and the metadata that says how big a block is.
+// exemplar_layout, exemplar_stacking: ids in 0..exemplar_count-1, and the metadata that says how big
+// a block is.
 void checkExemplarLayout(const Medium& medium, const std::string& source) {
   for (const auto& grid : medium.other_grids) {
-    if (grid->getName() != grid_names::kExemplarLayout) continue;
+    if (!isBlockIndexedGridName(grid->getName())) continue;
     const auto count = medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kExemplarCount);
     const auto block = medium.metadata.getMetadata<openvdb::Vec3IMetadata>(metadata_names::kExemplarBlock);
     if (!count || count->value() < 1 || !block || block->value().x() < 1 || block->value().y() < 1 || block->value().z() < 1)

@@ -35,11 +35,6 @@ int downsamplingFactor(const Medium& full, const Medium& lobes);
 // are shared with `lobes`.
 MediumPtr applyWeightFactors(const Medium& lobes, const WeightFactors& factors, const nlohmann::json& record);
 
-// XXH3-128 (hex) of a medium's content: every grid's name, transform and active values with their
-// coordinates, in tree order. Identifies a medium read from a stream, where no file bytes are left
-// to hash (checkpoints compare it).
-std::string mediumContentHash(const Medium& medium);
-
 // Keeps factors where the estimator and the medium stay physical: every factor at least kMinFactor,
 // and every voxel's effective albedo sum_j W_ij^c <= 1 per channel (a cluster whose largest
 // effective albedo exceeds 1 in channel c is scaled down by it: s_k^c with colour scales, w_k^c per

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_content_hash.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/util/error.h"

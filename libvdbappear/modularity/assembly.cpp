@@ -1,0 +1,49 @@
+#include "libvdbappear/modularity/assembly.h"
+
+#include "libvdbappear/modularity/block_moves.h"
+#include "libvdbappear/modularity/exemplar_set.h"
+
+#include <algorithm>
+
+namespace vdbappear {
+
+using openvdb::Coord;
+
+namespace {
+
+openvdb::Int32Grid::Ptr layoutGrid(const ExemplarLayout& layout, const openvdb::math::Transform::Ptr& transform) {
+  auto grid = openvdb::Int32Grid::create(0);
+  grid->setName(grid_names::kExemplarLayout);
+  grid->setTransform(transform);
+  auto accessor = grid->getAccessor();
+  for (int k = 0; k < layout.depth; ++k)
+    for (int j = 0; j < layout.height; ++j)
+      for (int i = 0; i < layout.width; ++i)
+        if (layout.at(i, j, k) != ExemplarLayout::kEmpty) accessor.setValueOn(Coord(i, j, k), layout.at(i, j, k));
+  return grid;
+}
+
+}  // namespace
+
+MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout) {
+  const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);
+  checkLayoutIds(layout, set.count, blocks.source);
+  BlockMoves moves{set.block, {}};
+  for (int e = 0; e < set.count; ++e) moves.destinations[Coord(e, 0, 0)];  // every exemplar, used or not
+  for (int k = 0; k < layout.depth; ++k)
+    for (int j = 0; j < layout.height; ++j)
+      for (int i = 0; i < layout.width; ++i)
+        if (layout.at(i, j, k) != ExemplarLayout::kEmpty)
+          moves.destinations[Coord(layout.at(i, j, k), 0, 0)].push_back(Coord(i, j, k));
+  MediumPtr model = moveBlocks(blocks, moves);
+  auto& grids = model->other_grids;
+  grids.erase(std::remove_if(grids.begin(), grids.end(),
+                             [](const auto& g) { return g->getName() == grid_names::kExemplarLayout; }),
+              grids.end());
+  grids.push_back(layoutGrid(layout, model->density->transformPtr()));
+  writeExemplarSet(*model, {set.count, set.block, ExemplarKind::Model, 1,
+                            set.name.empty() ? exemplarSetName(blocks) : set.name});
+  return model;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,19 @@
+#pragma once
+// §7 of the downsampling paper: a model synthesised from exemplar blocks is built by placing, at
+// each of its blocks, the exemplar its layout names; from full-resolution blocks this gives the
+// reference, from blocks cut out of one stacked, reduced and optimised volume the fast model.
+// Light header: no OpenVDB.
+
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/modularity/exemplar_layout.h"
+
+namespace vdbappear {
+
+// The model whose block (i, j, k) holds, bit for bit, the voxels of exemplar layout.at(i, j, k)
+// (index x in [i*Bx, (i+1)*Bx), ...; the block set's transform). Every grid and the metadata
+// (weight_factors included) are carried; exemplar_layout becomes `layout`, exemplar_kind = model and
+// exemplar_set names the exemplars. Throws MediumError for a medium that is not a block set and for
+// a layout naming an exemplar the set lacks.
+MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout);
+
+}  // namespace vdbappear

@@ -1,0 +1,173 @@
+// vdb_exemplar_stack from the command line: the §7 pipeline through the tools, layouts, pipes and
+// bad input.
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+
+#include "cli/run_command.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::runCommand;
+using test::TempDir;
+
+const std::string kStack = quote(VDB_EXEMPLAR_STACK);
+const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
+const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
+const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
+
+bool exists(const std::string& path) { return std::filesystem::exists(path); }
+int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
+
+// Four woven exemplars of 32 x 32 x 8 voxels and a 3 x 2 layout.
+struct Blocks {
+  TempDir dir;
+  std::string blocks = dir.path("blocks.vdb"), out = dir.path("out.vdb");
+  Blocks() {
+    EXPECT_EQ(runCommand(kMakeMedium + " exemplars --count 4 --layout 3x2 --res 32 -o " + quote(blocks)).status, 0);
+  }
+  std::string write(const std::string& name, const std::string& text) const {
+    const std::string path = dir.path(name);
+    std::ofstream(path) << text;
+    return path;
+  }
+};
+
+void expectRefused(const Blocks& b, const std::string& command, const std::string& names) {
+  const auto r = runCommand(command);
+  EXPECT_NE(r.status, 0) << command;
+  EXPECT_EQ(lineCount(r.err), 1) << command << "\n" << r.err;
+  EXPECT_NE(r.err.find(names), std::string::npos) << "expected '" << names << "' in: " << r.err;
+  EXPECT_FALSE(exists(b.out)) << command;
+}
+
+std::string metadataString(const Medium& medium, const char* key) {
+  const auto value = medium.metadata.getMetadata<openvdb::StringMetadata>(key);
+  return value ? value->value() : "";
+}
+
+TEST(ExemplarStackCli, HelpShowsTheCommandsAndExamples) {
+  const auto r = runCommand(kStack + " --help");
+  EXPECT_EQ(r.status, 0);
+  for (const char* word : {"Usage:", "stack", "split", "assemble", "Examples:"})
+    EXPECT_NE(r.out.find(word), std::string::npos) << word;
+  const auto assemble = runCommand(kStack + " assemble --help");
+  EXPECT_NE(assemble.out.find("--layout"), std::string::npos);
+}
+
+// The §7 pipeline through the tools: stack, reduce to lobes and clusters, optimise the weights once,
+// split, assemble; the model carries the clusters, lobes, weight factors and the exemplar set's name.
+TEST(ExemplarStackCli, OneOptimisationOfTheStackServesTheAssembledModel) {
+  const Blocks b;
+  const std::string stacked = b.dir.path("stacked.vdb"), lobes = b.dir.path("lobes.vdb"),
+                    optimised = b.dir.path("optimised.vdb"), reduced = b.dir.path("blocks_4x.vdb");
+  ASSERT_EQ(runCommand(kStack + " stack --seed 5 " + quote(b.blocks) + " " + quote(stacked)).status, 0);
+  ASSERT_EQ(runCommand(kLobeCluster + " -f 4 --lobes 2 --clusters 2 " + quote(stacked) + " " + quote(lobes)).status, 0);
+  const auto opt = runCommand(kOptimize + " --resolution 16 --spp 4 --reference-spp 8 --iterations 1 --no-cache " +
+                              quote(stacked) + " " + quote(lobes) + " " + quote(optimised));
+  ASSERT_EQ(opt.status, 0) << opt.err;
+  const auto split = runCommand(kStack + " split " + quote(optimised) + " " + quote(reduced));
+  ASSERT_EQ(split.status, 0) << split.err;
+  const auto assemble = runCommand(kStack + " assemble --report " + quote(b.dir.path("r.json")) + " " + quote(reduced) +
+                                   " " + quote(b.out));
+  ASSERT_EQ(assemble.status, 0) << assemble.err;
+
+  const MediumPtr blocks = readMedium(reduced), model = readMedium(b.out);
+  EXPECT_EQ(blocks->metadata.metaValue<openvdb::Vec3i>(metadata_names::kExemplarBlock), openvdb::Vec3i(8, 8, 2));
+  EXPECT_EQ(metadataString(*blocks, metadata_names::kExemplarKind), "blocks");
+  EXPECT_EQ(metadataString(*model, metadata_names::kExemplarKind), "model");
+  EXPECT_EQ(metadataString(*model, metadata_names::kExemplarSet).rfind("xxh3:", 0), 0u);
+  EXPECT_NE(metadataString(*model, metadata_names::kExemplarSet).find("blocks.vdb"), std::string::npos);
+  EXPECT_FALSE(metadataString(*model, "weight_factors").empty());
+  for (const char* grid : {"lobe0_weight", "lobe1_weight"})
+    EXPECT_TRUE(findOtherGrid<openvdb::Vec3SGrid>(*model, grid)) << grid;
+  for (const char* grid : {"cluster", "exemplar_layout"}) EXPECT_TRUE(findOtherGrid<openvdb::Int32Grid>(*model, grid)) << grid;
+  EXPECT_FALSE(findOtherGrid<openvdb::Int32Grid>(*blocks, grid_names::kExemplarStacking));
+  // The model spans its 3 x 2 blocks of 8 x 8 x 2 voxels.
+  const openvdb::CoordBBox box = model->density->evalActiveVoxelBoundingBox();
+  EXPECT_EQ(box.max().x(), 23);
+  EXPECT_EQ(box.max().y(), 15);
+}
+
+TEST(ExemplarStackCli, JsonLayoutsAndPipes) {
+  const Blocks b;
+  const std::string two_d = b.write("two.json", "[[0, 1, 2], [3, -1, 0]]");
+  const std::string three_d = b.write("three.json", "[[[0, 1]], [[2, 3]], [[1, 1]]]");
+  ASSERT_EQ(runCommand(kStack + " assemble --layout " + quote(two_d) + " " + quote(b.blocks) + " " + quote(b.out)).status, 0);
+  EXPECT_EQ(readMedium(b.out)->density->evalActiveVoxelBoundingBox().max().x(), 3 * 32 - 1);
+  const std::string tall = b.dir.path("tall.vdb");
+  ASSERT_EQ(runCommand(kStack + " assemble --layout " + quote(three_d) + " " + quote(b.blocks) + " " + quote(tall)).status, 0);
+  EXPECT_GE(readMedium(tall)->density->evalActiveVoxelBoundingBox().max().z(), 2 * 8);  // in the third sheet
+
+  // stack | split gives the blocks back; the input is not modified.
+  const std::string bytes = test::readFileBytes(b.blocks);
+  const std::string back = b.dir.path("back.vdb");
+  const auto pipe = runCommand(kStack + " stack " + quote(b.blocks) + " - | " + kStack + " split - " + quote(back));
+  ASSERT_EQ(pipe.status, 0) << pipe.err;
+  EXPECT_EQ(readMedium(back)->density->activeVoxelCount(), readMedium(b.blocks)->density->activeVoxelCount());
+  EXPECT_EQ(test::readFileBytes(b.blocks), bytes);
+}
+
+TEST(ExemplarStackCli, NonsenseFlagsFailWithoutOutput) {
+  const Blocks b;
+  const std::string io = " " + quote(b.blocks) + " " + quote(b.out);
+  for (const std::string flags : {"", "bogus", "stack", "stack --order abc", "stack --order 0,1,2", "stack --order 0,0,1,2",
+                                  "stack --order 0,1,2,x", "stack --seed -1", "split --order 0", "stack --bogus 1"}) {
+    const std::string command = kStack + " " + flags + (flags == "" || flags == "stack" ? "" : io);
+    const auto r = runCommand(command);
+    EXPECT_NE(r.status, 0) << command;
+    EXPECT_FALSE(exists(b.out)) << command;
+  }
+}
+
+TEST(ExemplarStackCli, BadInputIsOneErrorLineAndNoOutput) {
+  const Blocks b;
+  const std::string out = " " + quote(b.out);
+  const std::string absent = b.dir.path("absent.vdb");
+  expectRefused(b, kStack + " stack " + quote(absent) + out, absent + ": no such file");
+
+  const std::string cube = b.dir.path("cube.vdb");
+  ASSERT_EQ(runCommand(kMakeMedium + " cube --res 16 -o " + quote(cube)).status, 0);
+  expectRefused(b, kStack + " stack " + quote(cube) + out, cube + ": no metadata 'exemplar_count'");
+  expectRefused(b, kStack + " split " + quote(b.blocks) + out, b.blocks + ": metadata 'exemplar_kind' is blocks");
+
+  const std::string stacked = b.dir.path("stacked.vdb");
+  ASSERT_EQ(runCommand(kStack + " stack " + quote(b.blocks) + " " + quote(stacked)).status, 0);
+  expectRefused(b, kStack + " assemble " + quote(stacked) + out, "exemplar_kind' is stacked");
+  expectRefused(b, kStack + " assemble --layout " + quote(cube) + " " + quote(b.blocks) + out,
+                cube + ": no grid 'exemplar_layout'");
+
+  // A stack reduced by a factor that does not divide the block side (8 voxels along z).
+  const std::string by3 = b.dir.path("stacked_3x.vdb");
+  ASSERT_EQ(runCommand(quote(VDB_SGGX_DOWNSAMPLE) + " -f 3 " + quote(stacked) + " " + quote(by3)).status, 0);
+  expectRefused(b, kStack + " split " + quote(by3) + out, "reduced by a factor 3");
+
+  // Layouts naming a missing exemplar, ragged or not JSON.
+  expectRefused(b, kStack + " assemble --layout " + quote(b.write("far.json", "[[0, 7]]")) + " " + quote(b.blocks) + out,
+                "block (1,0,0) names exemplar 7; the block set holds 0..3");
+  expectRefused(b, kStack + " assemble --layout " + quote(b.write("ragged.json", "[[0, 1], [2]]")) + " " +
+                       quote(b.blocks) + out, "ragged.json: sheet 0, row 1");
+  expectRefused(b, kStack + " assemble --layout " + quote(b.write("text.json", "[[0, \"a\"]]")) + " " + quote(b.blocks) + out,
+                "is not an exemplar id");
+  expectRefused(b, kStack + " assemble --layout " + quote(b.write("junk.json", "[[0, 1")) + " " + quote(b.blocks) + out,
+                "junk.json: not a JSON layout");
+
+  // A truncated block set.
+  const std::string truncated = b.dir.path("truncated.vdb");
+  {
+    const std::string bytes = test::readFileBytes(b.blocks);
+    std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  expectRefused(b, kStack + " stack " + quote(truncated) + out, truncated);
+}
+
+}  // namespace
+}  // namespace vdbappear
