@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid optimize clean
+.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid optimize modularity clean
 
 all: build
 
@@ -47,7 +47,11 @@ lightgrid: build
 optimize: build
 	@scripts/optimize_experiment.py --build $(BUILD_DIR)
 
+# One optimisation of stacked exemplar blocks serving two assembled models (vdb_exemplar_stack, §7).
+modularity: build
+	@scripts/modularity_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out media
+	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out media
 
 include scripts/media.mk

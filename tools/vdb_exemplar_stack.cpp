@@ -32,6 +32,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_exemplar_stack assemble blocks.vdb model.vdb                          # reference
   vdb_exemplar_stack assemble blocks_4x.vdb model_4x.vdb                    # fast model, same layout
   vdb_exemplar_stack assemble --layout damask.json blocks_4x.vdb damask_4x.vdb
+  vdb_exemplar_stack assemble --instanced --layout huge.json blocks_4x.vdb huge.vdb && vdb_render huge.vdb -o huge.exr
 
 stack: the N blocks (side by side along x, docs/medium.md section 6b) are placed in the slots of a
 near-cubic exemplar volume, randomly under --seed (or --order sorted, or --order 2,0,1,...); the
@@ -44,7 +45,7 @@ sheet; -1 leaves a block empty). See docs/modularity.md.)";
 struct Options {
   std::string input, output, report, layout, order = "random";
   std::uint64_t seed = 1;
-  bool verbose = false;
+  bool verbose = false, instanced = false;
 };
 
 StackOptions stackOptions(const Options& options) {
@@ -97,9 +98,10 @@ int runCommand(const std::string& command, const Options& options, const std::st
     out = splitStacked(*in);
   } else {
     const ExemplarLayout layout = layoutFor(options, *in);
-    out = assembleModel(*in, layout);
+    out = options.instanced ? instancedModel(*in, layout) : assembleModel(*in, layout);
     details["layout"] = {{"source", options.layout.empty() ? options.input : options.layout},
                          {"blocks", {layout.width, layout.height, layout.depth}}};
+    details["instanced"] = options.instanced;
   }
   const double work_seconds = clock.lap();
   writeMedium(*out, options.output, history);
@@ -153,6 +155,9 @@ int main(int argc, char** argv) {
   CLI::App* assemble = addCommand(app, "assemble", "blocks -> the model that a layout describes", "BLOCKS", options);
   assemble->add_option("--layout", options.layout,
                        "the layout: a .json file, or a medium with an exemplar_layout grid (default: the block set's own)");
+  assemble->add_flag("--instanced", options.instanced,
+                     "write the block set and the layout only (exemplar_kind instanced); vdb_render looks the model's "
+                     "voxels up through the layout, in memory that grows with the block set, not the model");
   app.add_flag("-v,--verbose", options.verbose, "print voxel counts and timings to stderr");
   app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
   tool::ThreadLimit threads(app);

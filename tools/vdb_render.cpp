@@ -198,6 +198,7 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
     report["phase_function"] = phaseSourceName(medium->phaseSource());
     report["interp"] = interpolationName(medium->interpolation());
     report["majorant_voxels"] = medium->majorantVoxelCount();
+    if (const std::uint64_t voxels = medium->instancedVoxelCount()) report["instanced_model_voxels"] = voxels;
   }
   return report;
 }

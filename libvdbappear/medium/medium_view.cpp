@@ -4,6 +4,7 @@
 #include "libvdbappear/io/phase_tables.h"
 #include "libvdbappear/medium/majorant_grid.h"
 #include "libvdbappear/medium/majorant_traversal.h"
+#include "libvdbappear/modularity/instance_mapping.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
@@ -51,7 +52,9 @@ struct MediumView::Impl {
   std::vector<TabulatedPhase> tables;
   openvdb::Int32Grid::Ptr phase_id, cluster;
   int cluster_count = 0;
+  std::optional<InstanceMapping> instances;  // an instanced model: lookups go through its layout
 
+  void findInstances();
   void findTransform();
   void findBounds();
   void findPhaseSource();
@@ -74,8 +77,20 @@ void MediumView::Impl::findTransform() {
   }
 }
 
+// An instanced model (docs/modularity.md) renders with nearest lookups: a trilinear stencil on a block
+// border reads the neighbouring block, which the per-block majorant does not bound.
+void MediumView::Impl::findInstances() {
+  instances = InstanceMapping::of(*medium, kMajorantBlock);
+  if (!instances) return;
+  if (interpolation != Interpolation::kNearest)
+    throw MediumError(fmt::format("{}: an instanced model renders with nearest lookups (--interp nearest); for "
+                                  "trilinear lookups assemble it without --instanced", medium->source));
+  majorant = instances->modelGrid(*majorant, kMajorantBlock, medium->source);
+}
+
 void MediumView::Impl::findBounds() {
-  const openvdb::CoordBBox box = medium->density->evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox box =
+      instances ? instances->modelBounds(*medium->density) : medium->density->evalActiveVoxelBoundingBox();
   for (int corner = 0; corner < 8; ++corner) {
     const openvdb::Vec3d index((corner & 1 ? box.max().x() + 0.5 : box.min().x() - 0.5),
                                (corner & 2 ? box.max().y() + 0.5 : box.min().y() - 0.5),
@@ -169,6 +184,7 @@ MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignor
   impl_->medium = std::move(medium);
   impl_->interpolation = interpolation;
   impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation);
+  impl_->findInstances();
   impl_->findTransform();
   impl_->findBounds();
   impl_->findPhaseSource();
@@ -186,6 +202,9 @@ PhaseSource MediumView::phaseSource() const { return impl_->phase_source; }
 int MediumView::lobeCount() const { return impl_->phase_source == PhaseSource::kLobes ? int(impl_->lobes.size()) : 1; }
 int MediumView::clusterCount() const { return impl_->cluster_count; }
 std::size_t MediumView::majorantVoxelCount() const { return impl_->majorant->activeVoxelCount(); }
+std::uint64_t MediumView::instancedVoxelCount() const {
+  return impl_->instances ? impl_->instances->modelVoxelCount(*impl_->medium->density) : 0;
+}
 const std::string& MediumView::source() const { return impl_->medium->source; }
 std::unique_ptr<MediumLookup> MediumView::lookup() const { return std::make_unique<MediumLookup>(*impl_); }
 
@@ -208,6 +227,7 @@ struct LobeAccessors {
 };
 
 struct MediumLookup::Accessors {
+  const InstanceMapping* instances;
   openvdb::FloatGrid::ConstAccessor density, majorant;
   OptionalAccessor<openvdb::Vec3SGrid> albedo, diag, offdiag;
   OptionalAccessor<openvdb::FloatGrid> hg_g;
@@ -215,7 +235,8 @@ struct MediumLookup::Accessors {
   std::vector<LobeAccessors> lobes;
 
   explicit Accessors(const MediumView::Impl& view)
-      : density(view.medium->density->getConstAccessor()),
+      : instances(view.instances ? &*view.instances : nullptr),
+        density(view.medium->density->getConstAccessor()),
         majorant(view.majorant->getConstAccessor()),
         albedo(accessorOf<openvdb::Vec3SGrid>(view.medium->albedo)),
         diag(accessorOf<openvdb::Vec3SGrid>(view.medium->sggx_diag)),
@@ -228,22 +249,27 @@ struct MediumLookup::Accessors {
                        lobe.weight->getConstAccessor()});
   }
 
-  Mat3 S(const openvdb::Coord& ijk) {
+  // The voxel of the medium's grids that model voxel v reads: v itself, or through an instanced
+  // model's layout. Every lookup below takes model voxels.
+  openvdb::Coord at(const openvdb::Coord& v) const { return instances ? (*instances)(v) : v; }
+
+  Mat3 S(const openvdb::Coord& v) {
     if (!diag) return Mat3::Identity();
+    const openvdb::Coord ijk = at(v);
     const openvdb::Vec3s off = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
     return sggxMatrix(toVec3(diag->getValue(ijk)), toVec3(off));
   }
   double wSw(const openvdb::Coord& ijk, const Vec3& w);  // w^T S w
-  double rho(const openvdb::Coord& ijk) {  // inactive voxels are empty space (docs/medium.md §3)
+  double rho(const openvdb::Coord& v) {  // inactive voxels are empty space (docs/medium.md §3)
     float value = 0;
-    return density.probeValue(ijk, value) ? value : 0.0;
+    return density.probeValue(at(v), value) ? value : 0.0;
   }
-  Rgb albedoAt(const openvdb::Coord& ijk) { return albedo ? toRgb(albedo->getValue(ijk)) : Rgb::Ones(); }
-  int tableId(const openvdb::Coord& ijk, int background) {  // checked in readTables
+  Rgb albedoAt(const openvdb::Coord& v) { return albedo ? toRgb(albedo->getValue(at(v))) : Rgb::Ones(); }
+  int tableId(const openvdb::Coord& v, int background) {  // checked in readTables
     int id = background;
-    return phase_id->probeValue(ijk, id) ? id : background;
+    return phase_id->probeValue(at(v), id) ? id : background;
   }
-  double hgAt(const openvdb::Coord& ijk) { return hg_g ? hg_g->getValue(ijk) : 0.0; }
+  double hgAt(const openvdb::Coord& v) { return hg_g ? hg_g->getValue(at(v)) : 0.0; }
 };
 
 namespace {
@@ -252,8 +278,9 @@ double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w);
 
 }  // namespace
 
-double MediumLookup::Accessors::wSw(const openvdb::Coord& ijk, const Vec3& w) {
+double MediumLookup::Accessors::wSw(const openvdb::Coord& v, const Vec3& w) {
   if (!diag) return 1;
+  const openvdb::Coord ijk = at(v);
   return wSwOf(diag->getValue(ijk), offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f), w);
 }
 
@@ -317,6 +344,7 @@ double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w) {
 // per grid. Leaf offsets are x-major (64 x + 8 y + z); corner c has dx = bit 0, dy = bit 1, dz = bit 2.
 bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stencil, const Vec3& w, double* rho,
                       double* rho_wSw) {
+  if (a.instances) return false;  // the stencil may span two blocks of the layout
   const openvdb::Coord& base = stencil.base;
   if ((base.x() & 7) == 7 || (base.y() & 7) == 7 || (base.z() & 7) == 7) return false;
   const auto* density = a.density.probeConstLeaf(base);
@@ -366,7 +394,8 @@ double MediumLookup::extinction(const Vec3& p, const Vec3& w) {
 ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Accessors& a = *accessors_;
   const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
-  const openvdb::Coord ijk = discreteVoxel(a, view_.interpolation, p);
+  const openvdb::Coord v = discreteVoxel(a, view_.interpolation, p);
+  const openvdb::Coord ijk = a.at(v);  // for the lobe and cluster grids, read directly below
   ScatteringFunction f;
   PhaseLobe lobe;
   if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
@@ -390,9 +419,9 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Mat3 S = Mat3::Zero();
   double g = 0;
   if (view_.interpolation == Interpolation::kNearest) {
-    albedo = a.albedoAt(ijk);
-    if (view_.phase_source == PhaseSource::kSggx) S = a.S(ijk);
-    if (view_.phase_source == PhaseSource::kHgGrid) g = a.hgAt(ijk);
+    albedo = a.albedoAt(v);
+    if (view_.phase_source == PhaseSource::kSggx) S = a.S(v);
+    if (view_.phase_source == PhaseSource::kHgGrid) g = a.hgAt(v);
   } else {
     const TrilinearStencil stencil(p);
     double total = 0;
@@ -416,7 +445,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       break;
     case PhaseSource::kTable:
       lobe.kind = PhaseKind::kTabulated;
-      lobe.table = &view_.tables[a.phase_id ? a.tableId(ijk, view_.phase_id->background()) : 0];
+      lobe.table = &view_.tables[a.phase_id ? a.tableId(v, view_.phase_id->background()) : 0];
       break;
     case PhaseSource::kHgGrid:
     case PhaseSource::kHgConstant:
@@ -431,10 +460,10 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
 
 int MediumLookup::cluster(const Vec3& world) {
   if (!accessors_->cluster) return -1;
-  const openvdb::Coord ijk =
+  const openvdb::Coord v =
       discreteVoxel(*accessors_, view_.interpolation, view_.world_to_index * world + view_.index_of_origin);
   int id = 0;
-  return accessors_->cluster->probeValue(ijk, id) ? id : -1;
+  return accessors_->cluster->probeValue(accessors_->at(v), id) ? id : -1;
 }
 
 namespace {

@@ -64,6 +64,8 @@ class MediumView {
   int lobeCount() const;     // lobes per voxel when phaseSource() is kLobes, else 1
   int clusterCount() const;  // 1 + the largest id of the `cluster` grid; 0 without one
   std::size_t majorantVoxelCount() const;
+  // An instanced model (docs/modularity.md): the voxels it would have if built; 0 for other media.
+  std::uint64_t instancedVoxelCount() const;
   const std::string& source() const;
 
   std::unique_ptr<MediumLookup> lookup() const;

@@ -23,6 +23,14 @@ openvdb::Int32Grid::Ptr layoutGrid(const ExemplarLayout& layout, const openvdb::
   return grid;
 }
 
+void replaceLayout(Medium& medium, const ExemplarLayout& layout) {
+  auto& grids = medium.other_grids;
+  grids.erase(std::remove_if(grids.begin(), grids.end(),
+                             [](const auto& g) { return g->getName() == grid_names::kExemplarLayout; }),
+              grids.end());
+  grids.push_back(layoutGrid(layout, medium.density->transformPtr()));
+}
+
 }  // namespace
 
 MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout) {
@@ -36,12 +44,19 @@ MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout) {
         if (layout.at(i, j, k) != ExemplarLayout::kEmpty)
           moves.destinations[Coord(layout.at(i, j, k), 0, 0)].push_back(Coord(i, j, k));
   MediumPtr model = moveBlocks(blocks, moves);
-  auto& grids = model->other_grids;
-  grids.erase(std::remove_if(grids.begin(), grids.end(),
-                             [](const auto& g) { return g->getName() == grid_names::kExemplarLayout; }),
-              grids.end());
-  grids.push_back(layoutGrid(layout, model->density->transformPtr()));
+  replaceLayout(*model, layout);
   writeExemplarSet(*model, {set.count, set.block, ExemplarKind::Model, 1,
+                            set.name.empty() ? exemplarSetName(blocks) : set.name});
+  return model;
+}
+
+MediumPtr instancedModel(const Medium& blocks, const ExemplarLayout& layout) {
+  const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);
+  checkLayoutIds(layout, set.count, blocks.source);
+  auto model = std::make_shared<Medium>(blocks);  // shares the grids
+  replaceLayout(*model, layout);
+  model->metadata = blocks.metadata;
+  writeExemplarSet(*model, {set.count, set.block, ExemplarKind::Instanced, 1,
                             set.name.empty() ? exemplarSetName(blocks) : set.name});
   return model;
 }

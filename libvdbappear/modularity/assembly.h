@@ -16,4 +16,9 @@ namespace vdbappear {
 // a layout naming an exemplar the set lacks.
 MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout);
 
+// The same model, instanced: the block set's grids as they are plus `layout` as exemplar_layout and
+// exemplar_kind = instanced (a file that grows with the block set, not the model). vdb_render looks
+// its voxels up through the layout (modularity/instance_mapping.h).
+MediumPtr instancedModel(const Medium& blocks, const ExemplarLayout& layout);
+
 }  // namespace vdbappear

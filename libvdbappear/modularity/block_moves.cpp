@@ -91,6 +91,10 @@ Coord blockOf(const Coord& ijk, const Coord& block) {
   return Coord(floorDiv(ijk.x(), block.x()), floorDiv(ijk.y(), block.y()), floorDiv(ijk.z(), block.z()));
 }
 
+openvdb::FloatGrid::Ptr moveFloatGrid(const openvdb::FloatGrid& grid, const BlockMoves& moves, const std::string& file) {
+  return moveGrid(grid, moves, file);
+}
+
 MediumPtr moveBlocks(const Medium& source, const BlockMoves& moves) {
   auto out = std::make_shared<Medium>();
   out->metadata = source.metadata;

@@ -25,4 +25,7 @@ openvdb::Coord blockOf(const openvdb::Coord& ijk, const openvdb::Coord& block);
 // that `moves` does not list.
 MediumPtr moveBlocks(const Medium& source, const BlockMoves& moves);
 
+// One float grid moved the same way (the majorant of an instanced model). `file` names it in errors.
+openvdb::FloatGrid::Ptr moveFloatGrid(const openvdb::FloatGrid& grid, const BlockMoves& moves, const std::string& file);
+
 }  // namespace vdbappear

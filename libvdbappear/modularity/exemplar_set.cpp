@@ -16,7 +16,8 @@ ExemplarKind kindFrom(const Medium& medium) {
   if (!kind || kind->value() == "blocks") return ExemplarKind::Blocks;
   if (kind->value() == "stacked") return ExemplarKind::Stacked;
   if (kind->value() == "model") return ExemplarKind::Model;
-  throw MediumError(fmt::format("{}: metadata '{}' = '{}': expected blocks, stacked or model", medium.source,
+  if (kind->value() == "instanced") return ExemplarKind::Instanced;
+  throw MediumError(fmt::format("{}: metadata '{}' = '{}': expected blocks, stacked, model or instanced", medium.source,
                                 metadata_names::kExemplarKind, kind->value()));
 }
 
@@ -25,6 +26,7 @@ const char* whatToGive(ExemplarKind kind) {
     case ExemplarKind::Blocks: return "a block set (vdb_make_medium exemplars, or vdb_exemplar_stack split)";
     case ExemplarKind::Stacked: return "the output of vdb_exemplar_stack stack, or of the pipeline run on it";
     case ExemplarKind::Model: return "an assembled model";
+    case ExemplarKind::Instanced: return "an instanced model (vdb_exemplar_stack assemble --instanced)";
   }
   return "";
 }
@@ -51,6 +53,7 @@ const char* exemplarKindName(ExemplarKind kind) {
     case ExemplarKind::Blocks: return "blocks";
     case ExemplarKind::Stacked: return "stacked";
     case ExemplarKind::Model: return "model";
+    case ExemplarKind::Instanced: return "instanced";
   }
   return "";
 }

@@ -9,7 +9,7 @@
 
 namespace vdbappear {
 
-enum class ExemplarKind { Blocks, Stacked, Model };
+enum class ExemplarKind { Blocks, Stacked, Model, Instanced };
 
 const char* exemplarKindName(ExemplarKind kind);
 

@@ -1,5 +1,6 @@
 // vdb_exemplar_stack from the command line: the §7 pipeline through the tools, layouts, pipes and
 // bad input.
+#include "libvdbappear/image/image_file.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
 
@@ -7,6 +8,7 @@
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -23,6 +25,7 @@ const std::string kStack = quote(VDB_EXEMPLAR_STACK);
 const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
 const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
 const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
+const std::string kRender = quote(VDB_RENDER);
 
 bool exists(const std::string& path) { return std::filesystem::exists(path); }
 int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
@@ -114,6 +117,59 @@ TEST(ExemplarStackCli, JsonLayoutsAndPipes) {
   ASSERT_EQ(pipe.status, 0) << pipe.err;
   EXPECT_EQ(readMedium(back)->density->activeVoxelCount(), readMedium(b.blocks)->density->activeVoxelCount());
   EXPECT_EQ(test::readFileBytes(b.blocks), bytes);
+}
+
+// An instanced model renders the image of the model built voxel by voxel: same lookups, same per-block
+// majorants, same random numbers; the image is the same to float rounding (compared at 1e-5).
+void expectSameRender(const TempDir& dir, const std::string& built, const std::string& instanced,
+                      const std::string& flags) {
+  const std::string a = dir.path("built.exr"), b = dir.path("instanced.exr");
+  const auto ra = runCommand(kRender + " " + quote(built) + " -o " + quote(a) + flags + " --report -");
+  const auto rb = runCommand(kRender + " " + quote(instanced) + " -o " + quote(b) + flags + " --report -");
+  ASSERT_EQ(ra.status, 0) << ra.err;
+  ASSERT_EQ(rb.status, 0) << rb.err;
+  const auto report_a = nlohmann::json::parse(ra.out), report_b = nlohmann::json::parse(rb.out);
+  EXPECT_EQ(report_a["bounds"], report_b["bounds"]);
+  EXPECT_EQ(report_a["majorant_voxels"], report_b["majorant_voxels"]);
+  EXPECT_EQ(report_b["instanced_model_voxels"].get<std::uint64_t>(), readMedium(built)->density->activeVoxelCount());
+  const ImageChannels x = readImageChannels(a), y = readImageChannels(b);
+  ASSERT_EQ(x.values.size(), y.values.size());
+  double largest = 0, worst = 0;
+  for (std::size_t i = 0; i < x.values.size(); ++i) {
+    largest = std::max(largest, double(std::abs(x.values[i])));
+    worst = std::max(worst, double(std::abs(x.values[i] - y.values[i])));
+  }
+  EXPECT_GT(largest, 0.01);
+  EXPECT_LE(worst, 1e-5 * largest) << flags;
+}
+
+TEST(ExemplarStackCli, InstancedModelsRenderTheBuiltModelsImage) {
+  const Blocks b;
+  const std::string layout = b.write("layout.json", "[[[0, 1, 2], [3, -1, 0]], [[2, 2, 1], [0, 3, 3]]]");
+  const std::string built = b.dir.path("built.vdb"), instanced = b.dir.path("instanced.vdb");
+  const std::string args = " --layout " + quote(layout) + " " + quote(b.blocks) + " ";
+  ASSERT_EQ(runCommand(kStack + " assemble" + args + quote(built)).status, 0);
+  ASSERT_EQ(runCommand(kStack + " assemble --instanced" + args + quote(instanced)).status, 0);
+  EXPECT_LT(std::filesystem::file_size(instanced), std::filesystem::file_size(built));
+  const std::string view = " --res 40x30 --spp 4 --seed 3 --camera-pos 9,-7,6 --camera-target 6,4,1 --fov 40 --ground";
+  expectSameRender(b.dir, built, instanced, view);
+
+  // Reduced, multi-lobe blocks (the lobe, weight and cluster grids are read through the layout too).
+  const std::string lobes = b.dir.path("lobes.vdb"), reduced = b.dir.path("reduced.vdb");
+  const std::string stacked = b.dir.path("stacked.vdb");
+  ASSERT_EQ(runCommand(kStack + " stack " + quote(b.blocks) + " " + quote(stacked)).status, 0);
+  ASSERT_EQ(runCommand(kLobeCluster + " -f 2 --lobes 2 --clusters 2 " + quote(stacked) + " " + quote(lobes)).status, 0);
+  ASSERT_EQ(runCommand(kStack + " split " + quote(lobes) + " " + quote(reduced)).status, 0);
+  const std::string reduced_args = " --layout " + quote(layout) + " " + quote(reduced) + " ";
+  ASSERT_EQ(runCommand(kStack + " assemble" + reduced_args + quote(built)).status, 0);
+  ASSERT_EQ(runCommand(kStack + " assemble --instanced" + reduced_args + quote(instanced)).status, 0);
+  expectSameRender(b.dir, built, instanced, view + " --aov cluster");
+
+  // Trilinear lookups would read across block borders, which the per-block majorant does not bound.
+  const auto trilinear = runCommand(kRender + " " + quote(instanced) + " -o " + quote(b.out) + " --interp trilinear");
+  EXPECT_NE(trilinear.status, 0);
+  EXPECT_NE(trilinear.err.find("nearest"), std::string::npos) << trilinear.err;
+  EXPECT_FALSE(exists(b.out));
 }
 
 TEST(ExemplarStackCli, NonsenseFlagsFailWithoutOutput) {

@@ -1,0 +1,55 @@
+#pragma once
+// An instanced model (§7; docs/modularity.md): the block set and a layout, rendered without building
+// the model's grids. Every voxel lookup goes through the layout: model voxel v in block b is voxel
+// v - b*B of exemplar layout(b), at index (e*Bx, 0, 0) + (v - b*B) of the block set. Memory grows
+// with the block set and the layout, not with the model. Includes OpenVDB (library code only).
+
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/modularity/exemplar_layout.h"
+
+#include <optional>
+
+namespace vdbappear {
+
+class InstanceMapping {
+ public:
+  // The mapping of a medium whose exemplar_kind is `instanced`; nullopt for any other medium. Throws
+  // MediumError when its metadata or layout are broken, or when a block side is not a multiple of
+  // `block_multiple` (the majorant's block, so that majorant blocks do not straddle model blocks).
+  static std::optional<InstanceMapping> of(const Medium& medium, int block_multiple);
+
+  // The block-set voxel that model voxel `v` reads; a voxel far from every grid's data where the
+  // layout has no exemplar.
+  openvdb::Coord operator()(const openvdb::Coord& v) const {
+    const openvdb::Coord b(floorDiv(v.x(), block_.x()), floorDiv(v.y(), block_.y()), floorDiv(v.z(), block_.z()));
+    if (b.x() < 0 || b.y() < 0 || b.z() < 0 || b.x() >= layout_.width || b.y() >= layout_.height ||
+        b.z() >= layout_.depth)
+      return kNowhere;
+    const int e = layout_.at(b.x(), b.y(), b.z());
+    if (e == ExemplarLayout::kEmpty) return kNowhere;
+    return openvdb::Coord(v.x() + (e - b.x()) * block_.x(), v.y() - b.y() * block_.y(), v.z() - b.z() * block_.z());
+  }
+
+  const openvdb::Coord& block() const { return block_; }
+  const ExemplarLayout& layout() const { return layout_; }
+
+  // The bounding box of the model's active voxels: each placed exemplar's own box, shifted.
+  openvdb::CoordBBox modelBounds(const openvdb::FloatGrid& density) const;
+
+  // A grid over the block set whose blocks are `unit` of its voxels on a side (the majorant grid:
+  // one value per kMajorantBlock^3 voxels), laid out as the model: the model's majorant.
+  openvdb::FloatGrid::Ptr modelGrid(const openvdb::FloatGrid& set_grid, int unit, const std::string& file) const;
+
+  // Voxels of the model if it were built: the sum over placed blocks of their exemplar's active voxels.
+  std::uint64_t modelVoxelCount(const openvdb::FloatGrid& density) const;
+
+ private:
+  static int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+  static inline const openvdb::Coord kNowhere{-(1 << 29)};
+
+  openvdb::Coord block_;
+  int count_ = 0;
+  ExemplarLayout layout_;
+};
+
+}  // namespace vdbappear
