@@ -12,26 +12,90 @@ reduction (the split of the un-optimised lobes).
 
 - Stacking invariance (Fig. 10): model A from the two stackings, the relative difference of their
   mean foreground intensities, against the Monte Carlo noise of such a difference (the spread of the
-  means of model A rendered with three seeds, times sqrt(2)).
+  means of model A rendered with three seeds, times sqrt(2)), and against a control: stacking 1
+  optimised again with another seed of the optimiser.
 - Shared optimisation: A and B against their references: mean error and 8x8-tile relative RMSE,
   naive and optimised, with side-by-side images and error maps.
+- Seams: the errors over pixels near block borders against pixels inside blocks (masks from the
+  held-out camera and the sheet's mid-plane; vdb_image_compare --mask).
+- Instancing: a 64 x 64 layout of blocks 128 voxels on a side, instanced, rendered at 1280x720 with
+  its peak memory; model A built and instanced rendered alike.
 - Amortised cost: the stacked pipeline (stack, lobes, optimisation, split, one assemble per model)
   against reducing and optimising each full model on its own (lobes + optimisation of A and of B,
   measured; for 8 models the per-model cost is the mean of the two).
 
 Writes modularity-out/: report.md, report.json, images.
-Usage: scripts/modularity_experiment.py [--build build] [--out modularity-out] [--spp 32]
+Usage: scripts/modularity_experiment.py [--build build] [--out modularity-out] [--spp 128]
 """
 import argparse
 import json
 import math
 import pathlib
+import re
+import shutil
+import struct
+import subprocess
 import sys
 import time
 
 from optimize_experiment import Experiment
 
 FACTOR, LOBES, CLUSTERS = 4, 2, 2
+BLOCK_WORLD = 4.0  # a block of vdb_make_medium exemplars: 4 yarns of 1 world unit
+SEAM_BAND, INSIDE_FROM = 0.25, 0.75  # world units from the nearest block border: border pixels, inside pixels
+
+
+def pixel_rays(camera_flags, width, height):
+    """The centre ray of every pixel, as vdb_render's pinhole camera makes it (render/camera.cpp)."""
+    flags = dict(zip(camera_flags[::2], camera_flags[1::2]))
+    pos = [float(v) for v in flags["--camera-pos"].split(",")]
+    target = [float(v) for v in flags["--camera-target"].split(",")]
+    fov = float(flags["--fov"])
+    norm = lambda v: [c / math.sqrt(sum(x * x for x in v)) for c in v]
+    cross = lambda a, b: [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    forward = norm([t - p for t, p in zip(target, pos)])
+    right = norm(cross(forward, [0, 0, 1]))
+    up = cross(right, forward)
+    tan_half, aspect = math.tan(math.radians(fov) / 2), width / height
+    for y in range(height):
+        for x in range(width):
+            sx = (2 * (x + 0.5) / width - 1) * tan_half * aspect
+            sy = (1 - 2 * (y + 0.5) / height) * tan_half
+            yield x, y, pos, norm([f + sx * r + sy * u for f, r, u in zip(forward, right, up)])
+
+
+def write_mask_pfm(path, width, height, inside):
+    with open(path, "wb") as f:
+        f.write(b"PF\n%d %d\n-1.0\n" % (width, height))
+        for y in reversed(range(height)):  # PFM rows go bottom to top
+            for x in range(width):
+                v = 1.0 if (x, y) in inside else 0.0
+                f.write(struct.pack("<3f", v, v, v))
+
+
+def seam_masks(folder, camera_flags, size, plane_z, blocks_x, blocks_y):
+    """Pixels whose ray meets the sheet's mid-plane within SEAM_BAND of a block border (between two
+    blocks), and pixels farther than INSIDE_FROM from every border: two PFM masks."""
+    width, height = (int(v) for v in size.split("x"))
+    border, inside = set(), set()
+    for x, y, o, d in pixel_rays(camera_flags, width, height):
+        if abs(d[2]) < 1e-9:
+            continue
+        t = (plane_z - o[2]) / d[2]
+        px, py = o[0] + t * d[0], o[1] + t * d[1]
+        if t <= 0 or not (0 < px < blocks_x * BLOCK_WORLD and 0 < py < blocks_y * BLOCK_WORLD):
+            continue
+        gx, gy = px / BLOCK_WORLD, py / BLOCK_WORLD
+        to_border = BLOCK_WORLD * min(abs(gx - round(gx)) if 0 < round(gx) < blocks_x else 1,
+                                      abs(gy - round(gy)) if 0 < round(gy) < blocks_y else 1)
+        if to_border < SEAM_BAND:
+            border.add((x, y))
+        elif to_border > INSIDE_FROM:
+            inside.add((x, y))
+    masks = {"border": folder / "mask_border.pfm", "inside": folder / "mask_inside.pfm"}
+    write_mask_pfm(masks["border"], width, height, border)
+    write_mask_pfm(masks["inside"], width, height, inside)
+    return masks
 
 
 class Modularity(Experiment):
@@ -48,16 +112,17 @@ class Modularity(Experiment):
         layout.write_text(json.dumps(rows))
         return blocks, layout
 
-    def stacked_pipeline(self, blocks, seed):
+    def stacked_pipeline(self, blocks, seed, optimiser_seed=1):
         """stack, lobes, optimisation, split: the reduced blocks (optimised and naive) and the seconds."""
-        d = self.out / f"stack_{seed}"
+        d = self.out / f"stack_{seed}" if optimiser_seed == 1 else self.out / f"stack_{seed}_seed_{optimiser_seed}"
         d.mkdir(exist_ok=True)
         stacked, lobes, opt = d / "stacked.vdb", d / "lobes.vdb", d / "optimised.vdb"
         seconds = {"stack": self.timed("vdb_exemplar_stack", "stack", "--seed", seed, blocks, stacked)}
         seconds["lobes"] = self.timed("vdb_lobe_cluster", "-f", FACTOR, "--lobes", LOBES, "--clusters", CLUSTERS,
                                       stacked, lobes)
         seconds["optimise"] = self.timed("vdb_optimize_weights", stacked, lobes, opt, "--cache", self.cache,
-                                         "--log", d / "run.jsonl", "--report", d / "optimize.json", *self.optimize_flags)
+                                         "--log", d / "run.jsonl", "--report", d / "optimize.json",
+                                         "--seed", optimiser_seed, *self.optimize_flags)
         seconds["split"] = self.timed("vdb_exemplar_stack", "split", opt, d / "blocks_opt.vdb")
         self.tool("vdb_exemplar_stack", "split", lobes, d / "blocks_naive.vdb")
         return d / "blocks_opt.vdb", d / "blocks_naive.vdb", seconds
@@ -74,13 +139,72 @@ class Modularity(Experiment):
                         "--report", d / "optimize.json", *self.optimize_flags)
         return t
 
+    def seams(self, name, full, blocks_x, blocks_y):
+        """Errors of the naive and optimised model over border pixels against inside pixels."""
+        camera = self.camera(full, 250, 40)
+        centre, _, _ = self.box(full)
+        masks = seam_masks(self.out / name, camera, self.size, centre[2], blocks_x, blocks_y)
+        result = {}
+        for kind in ("env_map", "point_light"):
+            ref = self.out / name / f"full_three-quarter_{kind}.exr"
+            for label in ("naive", "optimised"):
+                exr = self.out / name / f"{label}_three-quarter_{kind}.exr"
+                for region, mask in masks.items():
+                    c = json.loads(self.tool("vdb_image_compare", ref, exr, "--foreground", "--mask", mask,
+                                             "--report", "-").stdout)
+                    result[f"{kind}_{label}_{region}"] = {"mean_error": c["mean_relative_error"],
+                                                          "relative_rmse": c["relative_rmse"]}
+        return result
+
+    def own_accuracy(self, name, full):
+        """The held-out errors of the model optimised on its own (own_optimisation)."""
+        own = self.out / f"own_{name}" / "optimised.vdb"
+        camera = self.camera(full, 250, 40)
+        result = {}
+        for kind in ("env_map", "point_light"):
+            exr = self.out / name / f"own_three-quarter_{kind}.exr"
+            self.render(own, exr, camera, self.lights(full, kind), self.spp)
+            result[f"three-quarter_{kind}"] = self.compare(self.out / name / f"full_three-quarter_{kind}.exr", exr)
+        return result
+
+    def instancing(self):
+        """A 64 x 64 layout of blocks 128 voxels on a side, instanced, rendered at 1280x720: peak memory
+        and time (/usr/bin/time -v); and model A built and instanced, rendered alike."""
+        d = self.out / "instancing"
+        d.mkdir(exist_ok=True)
+        blocks, model = d / "blocks_128.vdb", d / "model_64x64.vdb"
+        self.tool("vdb_make_medium", "exemplars", "--count", "6", "--res", "128", "--layout", "64x64", "-o", blocks)
+        self.tool("vdb_exemplar_stack", "assemble", "--instanced", blocks, model)
+        timed = subprocess.run(["/usr/bin/time", "-v", self.bin / "vdb_render", model, "-o", d / "model_64x64.png",
+                                "--res", "1280x720", "--spp", "16", "--camera-pos", "300,-200,200", "--camera-target",
+                                "128,128,0", "--fov", "40", "--sun", "0.3,0.2,-1,3", "--env", "0.3", "--report",
+                                d / "render.json"], check=True, text=True, capture_output=True)
+        peak_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", timed.stderr).group(1))
+        wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): ([\d:.]+)", timed.stderr).group(1)
+        report = json.loads((d / "render.json").read_text())
+        built, instanced = self.out / "A" / "full.vdb", d / "A_instanced.vdb"
+        self.tool("vdb_exemplar_stack", "assemble", "--instanced", self.out / "blocks.vdb", instanced)
+        camera = self.camera(built, 250, 40)
+        images = []
+        for label, vdb in (("built", built), ("instanced", instanced)):
+            images.append(d / f"A_{label}.exr")
+            self.render(vdb, images[-1], camera, self.lights(built, "env_map"), 16, res="120x90")
+        same = json.loads(self.tool("vdb_image_compare", images[0], images[1], "--report", "-").stdout)
+        voxels_per_block = 128 * 128 * 32
+        return {"layout": "64x64", "block_voxels": [128, 128, 32], "model_cells": 64 * 64 * voxels_per_block,
+                "model_active_voxels": report["instanced_model_voxels"], "file_bytes": model.stat().st_size,
+                "peak_rss_mb": peak_kb / 1024, "wall": wall, "render_seconds": report["seconds"],
+                "majorant_voxels": report["majorant_voxels"], "built_vs_instanced_rmse": same["rmse"],
+                "built_vs_instanced_mean_error": same["mean_relative_error"]}
+
     def mean_foreground(self, reference_exr, exr):
         c = json.loads(self.tool("vdb_image_compare", reference_exr, exr, "--foreground", "--report", "-").stdout)
         return c["mean_test"]
 
 
-def stacking_invariance(m, full_a, model_a1, model_a2):
-    """Mean of model A from stacking 2 against stacking 1, and the noise of such a difference."""
+def stacking_invariance(m, full_a, model_a1, model_a2, model_a1_reseeded):
+    """Mean of model A from stacking 2 against stacking 1, the Monte Carlo noise of such a difference,
+    and the control: stacking 1 optimised again with another seed of the optimiser."""
     camera = m.camera(full_a, 250, 40)
     result = {}
     for kind in ("env_map", "point_light"):
@@ -94,9 +218,13 @@ def stacking_invariance(m, full_a, model_a1, model_a2):
         exr2 = m.out / "invariance" / f"stack2_{kind}_seed1.exr"
         m.render(model_a2, exr2, camera, light, m.spp, seed=1)
         other = m.mean_foreground(ref, exr2)
+        exr3 = m.out / "invariance" / f"stack1_reoptimised_{kind}_seed1.exr"
+        m.render(model_a1_reseeded, exr3, camera, light, m.spp, seed=1)
+        reoptimised = m.mean_foreground(ref, exr3)
         mean = sum(means) / 3
         spread = math.sqrt(sum((x - mean) ** 2 for x in means) / 2)
         result[kind] = {"stacking_difference": (other - means[0]) / mean,
+                        "optimiser_seed_difference": (reoptimised - means[0]) / mean,
                         "noise_of_a_difference": math.sqrt(2) * spread / mean, "means_seed_1_2_3": means,
                         "mean_stacking_2": other}
     return result
@@ -109,17 +237,39 @@ def write_report(out, r):
              "16 x 4 blocks of another pattern. Held out: three-quarter view (azimuth 250, elevation 40) under an",
              "environment map and a point light over a ground; errors over the full model's foreground.", "",
              "## Shared optimisation: two layouts from one optimised block set (stacking 1)", "",
-             "| model | held-out light | naive mean | optimised mean | naive tile RMSE | optimised tile RMSE |",
-             "|---|---|---|---|---|---|"]
+             "Columns: naive (the split of the un-optimised lobes), shared (the one stacked optimisation), own (the",
+             "full model reduced and optimised by itself, for comparison).", "",
+             "| model | held-out light | naive mean | shared mean | own mean | naive tile RMSE | shared tile RMSE | "
+             "own tile RMSE | bar (shared: <= naive / 3, <= 2%, tile RMSE below naive) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for model in ("A", "B"):
         for tag, c in r["held_out"][model].items():
-            lines.append(f"| {model} | {tag} | {100 * c['naive']['mean_error']:+.2f}% | "
-                         f"{100 * c['optimised']['mean_error']:+.2f}% | {c['naive']['tile_rmse']:.4f} | "
-                         f"{c['optimised']['tile_rmse']:.4f} |")
+            o = r["own"][model][tag]
+            n, s_ = c["naive"], c["optimised"]
+            bar = (abs(s_["mean_error"]) <= abs(n["mean_error"]) / 3 and abs(s_["mean_error"]) <= 0.02
+                   and s_["tile_rmse"] < n["tile_rmse"])
+            lines.append(f"| {model} | {tag} | {100 * n['mean_error']:+.2f}% | {100 * s_['mean_error']:+.2f}% | "
+                         f"{100 * o['mean_error']:+.2f}% | {n['tile_rmse']:.4f} | {s_['tile_rmse']:.4f} | "
+                         f"{o['tile_rmse']:.4f} | {'yes' if bar else 'no'} |")
+    lines += ["", "## Seams: pixels near block borders against pixels inside blocks", "",
+              f"Pixels whose ray meets the sheet's mid-plane within {SEAM_BAND} world units of a border between two "
+              f"blocks (a block is {BLOCK_WORLD:g} units; a reduced voxel 0.25) against pixels farther than "
+              f"{INSIDE_FROM} from every border; per-pixel relative RMSE and mean error against the full model.", "",
+              "| model | light | reduction | border: mean, RMSE | inside: mean, RMSE |", "|---|---|---|---|---|"]
+    for model in ("A", "B"):
+        for kind in ("env_map", "point_light"):
+            for label in ("naive", "optimised"):
+                b_ = r["seams"][model][f"{kind}_{label}_border"]
+                i_ = r["seams"][model][f"{kind}_{label}_inside"]
+                lines.append(f"| {model} | {kind} | {label} | {100 * b_['mean_error']:+.2f}%, {b_['relative_rmse']:.4f} | "
+                             f"{100 * i_['mean_error']:+.2f}%, {i_['relative_rmse']:.4f} |")
     lines += ["", "## Stacking invariance (Fig. 10): model A from two random stackings", "",
-              "| held-out light | mean, stacking 2 vs 1 | Monte Carlo noise of such a difference |", "|---|---|---|"]
+              "Control: stacking 1 optimised again with another seed of the optimiser (other training renders).", "",
+              "| held-out light | mean, stacking 2 vs 1 | control: stacking 1, optimiser seed 2 vs 1 | Monte Carlo noise "
+              "of such a difference (render) |", "|---|---|---|---|"]
     for kind, c in r["invariance"].items():
-        lines.append(f"| {kind} | {100 * c['stacking_difference']:+.2f}% | {100 * c['noise_of_a_difference']:.2f}% |")
+        lines.append(f"| {kind} | {100 * c['stacking_difference']:+.2f}% | {100 * c['optimiser_seed_difference']:+.2f}% | "
+                     f"{100 * c['noise_of_a_difference']:.2f}% |")
     s, own = r["seconds"]["stack_1"], r["seconds"]["own"]
     stacked = s["stack"] + s["lobes"] + s["optimise"] + s["split"]
     per_model_assemble = (r["seconds"]["assemble_A"] + r["seconds"]["assemble_B"]) / 2
@@ -133,6 +283,16 @@ def write_report(out, r):
         a = stacked + n * per_model_assemble
         b = own["A"] + own["B"] if n == 2 else n * per_model_own
         lines.append(f"| {n}{'' if n == 2 else ' (own: 8 x the mean of A and B)'} | {a:.1f} | {b:.1f} | {b / a:.2f} |")
+    i = r["instancing"]
+    lines += ["", "## Instancing", "",
+              f"A {i['layout']} layout of blocks of {i['block_voxels'][0]} x {i['block_voxels'][1]} x "
+              f"{i['block_voxels'][2]} voxels: {i['model_cells'] / 1e9:.2f} G voxel cells, {i['model_active_voxels'] / 1e6:.0f} M "
+              f"active voxels if built; instanced file {i['file_bytes'] / 1e6:.1f} MB. `vdb_render` at 1280x720, 16 spp: "
+              f"peak resident memory {i['peak_rss_mb']:.0f} MB (/usr/bin/time -v), wall {i['wall']}, render "
+              f"{i['render_seconds']:.1f} s, {i['majorant_voxels'] / 1e6:.1f} M majorant voxels.", "",
+              f"Model A built and instanced, rendered alike (120x90, 16 spp, same seed): RMSE {i['built_vs_instanced_rmse']:.3g}, "
+              f"mean {100 * i['built_vs_instanced_mean_error']:+.4f}%.", "",
+              "![instanced](instancing/model_64x64.png)"]
     lines += ["", "## Pictures", ""]
     for model in ("A", "B"):
         for tag in r["held_out"][model]:
@@ -146,13 +306,15 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="modularity-out")
-    parser.add_argument("--spp", type=int, default=32, help="samples per pixel of the held-out renders")
+    parser.add_argument("--spp", type=int, default=128, help="samples per pixel of the held-out renders")
     parser.add_argument("--size", default="240x180", help="held-out image size")
     parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
     parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
     args = parser.parse_args()
     start = time.monotonic()
     m = Modularity(args)
+    for d in ("A", "B", "invariance", "instancing", "stack_1", "stack_2", "stack_1_seed_2", "own_A", "own_B"):
+        shutil.rmtree(m.out / d, ignore_errors=True)  # renders of an earlier run would be reused
     for d in ("A", "B", "invariance"):
         (m.out / d).mkdir(exist_ok=True)
     blocks, layout_b = m.exemplars()
@@ -160,6 +322,7 @@ def main():
     print("modularity: stacked pipelines", file=sys.stderr)
     opt1, naive1, seconds["stack_1"] = m.stacked_pipeline(blocks, 1)
     opt2, _, seconds["stack_2"] = m.stacked_pipeline(blocks, 2)
+    opt1_reseeded, _, _ = m.stacked_pipeline(blocks, 1, optimiser_seed=2)
     models = {}
     for name, layout in (("A", None), ("B", layout_b)):
         models[name] = {"full": m.out / name / "full.vdb", "naive": m.out / name / "naive.vdb",
@@ -169,13 +332,19 @@ def main():
         seconds[f"assemble_{name}"] = m.assemble(opt1, models[name]["optimised"], layout)
     model_a2 = m.out / "invariance" / "optimised_stack2.vdb"
     m.assemble(opt2, model_a2)
+    model_a1_reseeded = m.out / "invariance" / "optimised_stack1_seed2.vdb"
+    m.assemble(opt1_reseeded, model_a1_reseeded)
     print("modularity: held-out renders", file=sys.stderr)
     held_out = {name: m.held_out(name, v["full"], v["naive"], v["optimised"]) for name, v in models.items()}
-    invariance = stacking_invariance(m, models["A"]["full"], models["A"]["optimised"], model_a2)
+    invariance = stacking_invariance(m, models["A"]["full"], models["A"]["optimised"], model_a2, model_a1_reseeded)
+    seams = {"A": m.seams("A", models["A"]["full"], 8, 8), "B": m.seams("B", models["B"]["full"], 16, 4)}
     print("modularity: each model optimised on its own", file=sys.stderr)
     seconds["own"] = {name: m.own_optimisation(v["full"], name) for name, v in models.items()}
-    result = {"held_out": held_out, "invariance": invariance, "seconds": seconds,
-              "total_seconds": time.monotonic() - start}
+    own = {name: m.own_accuracy(name, v["full"]) for name, v in models.items()}
+    print("modularity: instancing", file=sys.stderr)
+    instancing = m.instancing()
+    result = {"held_out": held_out, "own": own, "invariance": invariance, "seams": seams, "seconds": seconds,
+              "instancing": instancing, "total_seconds": time.monotonic() - start}
     (m.out / "report.json").write_text(json.dumps(result, indent=1))
     write_report(m.out, result)
     print(f"modularity: {m.out / 'report.md'} in {time.monotonic() - start:.0f} s", file=sys.stderr)

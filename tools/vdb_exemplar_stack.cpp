@@ -78,7 +78,9 @@ ExemplarLayout layoutFor(const Options& options, const Medium& blocks) {
   if (options.layout.empty()) return layoutOfMedium(blocks);
   if (options.layout.size() > 5 && options.layout.substr(options.layout.size() - 5) == ".json")
     return readLayoutJson(options.layout);
-  return layoutOfMedium(*readMedium(options.layout));
+  const MediumPtr layout_medium = readMedium(options.layout);
+  checkLayoutMedium(*layout_medium, blocks);
+  return layoutOfMedium(*layout_medium);
 }
 
 int runCommand(const std::string& command, const Options& options, const std::string& history) {

@@ -17,9 +17,21 @@ constexpr const char* kExamples = R"(Examples:
   vdb_image_compare full.exr naive4x.exr --error-map error.png --report -
   vdb_image_compare ref.exr test.exr --side-by-side compare.png --range 0.25
   vdb_image_compare full.exr lobes4x.exr --foreground --tile 8 --report -
+  vdb_image_compare full.exr model4x.exr --foreground --mask block_borders.pfm --report -
 The error map is the signed relative error per pixel: red where TEST is brighter than REFERENCE,
 blue where darker, saturated at --range (default 0.5 = 50%). --tile N compares the means of N x N
 pixel tiles (the numbers and the maps): the look at that scale, with less noise.)";
+
+// mask &= (first channel of the image at `path` > 0.5); an empty mask means every pixel.
+void restrictToMask(const std::string& path, int width, int height, std::vector<bool>& mask) {
+  const ImageChannels image = readImageChannels(path);
+  if (image.width != width || image.height != height)
+    throw std::runtime_error(fmt::format("{}: the mask is {}x{}, the images {}x{}", path, image.width, image.height,
+                                         width, height));
+  const std::size_t pixels = std::size_t(width) * height;
+  if (mask.empty()) mask.assign(pixels, true);
+  for (std::size_t i = 0; i < pixels; ++i) mask[i] = mask[i] && image.values[i * image.names.size()] > 0.5f;
+}
 
 }  // namespace
 
@@ -27,7 +39,7 @@ int main(int argc, char** argv) {
   CLI::App app("Compares an image with a reference (EXR or any format OpenImageIO reads).", kTool);
   app.footer(kExamples);
   app.set_version_flag("--version", kVersion);
-  std::string reference, test, error_map, side_by_side, report;
+  std::string reference, test, error_map, side_by_side, report, mask_image;
   double range = 0.5;
   bool foreground = false;
   int tile = 1;
@@ -37,6 +49,8 @@ int main(int argc, char** argv) {
   app.add_option("--side-by-side", side_by_side, "write REFERENCE | TEST | error map as one image");
   app.add_option("--range", range, "relative error at which the map saturates (default 0.5)")->check(CLI::PositiveNumber);
   app.add_flag("--foreground", foreground, "count only pixels where REFERENCE's alpha channel A > 0.5 (vdb_render --aov alpha)");
+  app.add_option("--mask", mask_image, "count only pixels where this image's first channel is above 0.5 (with "
+                                      "--foreground: pixels in both)");
   app.add_option("--tile", tile, "compare the means of N x N pixel tiles (a foreground tile: most of its pixels are)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--report", report, "write the numbers as JSON (- for stdout; default: a line on stdout)");
@@ -53,12 +67,14 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)
         mask.push_back(channels.values[i * channels.names.size() + alpha] > 0.5f);
     }
+    if (!mask_image.empty()) restrictToMask(mask_image, channels.width, channels.height, mask);
     mask = tileMask(mask, channels.width, channels.height, tile);
     const ImageComparison c = compareImages(a, b, mask);
     const RgbImage map = relativeErrorMap(a, b, range);
     if (!error_map.empty()) writeImage(map, error_map);
     if (!side_by_side.empty()) writeImage(sideBySide({&a, &b, &map}), side_by_side);
-    const nlohmann::json json = {{"reference", reference}, {"test", test}, {"foreground_only", foreground}, {"tile", tile},
+    const nlohmann::json json = {{"reference", reference}, {"test", test}, {"foreground_only", foreground},
+                                 {"mask", mask_image}, {"tile", tile},
                                  {"mean_reference", c.mean_reference}, {"mean_test", c.mean_test},
                                  {"mean_relative_error", c.mean_relative_error}, {"rmse", c.rmse},
                                  {"relative_rmse", c.relative_rmse}, {"max_abs_error", c.max_abs_error}};

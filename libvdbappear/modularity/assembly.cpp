@@ -3,7 +3,12 @@
 #include "libvdbappear/modularity/block_moves.h"
 #include "libvdbappear/modularity/exemplar_set.h"
 
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 
 namespace vdbappear {
 
@@ -32,6 +37,27 @@ void replaceLayout(Medium& medium, const ExemplarLayout& layout) {
 }
 
 }  // namespace
+
+void checkLayoutMedium(const Medium& layout_medium, const Medium& blocks) {
+  const auto count = layout_medium.metadata.getMetadata<openvdb::Int32Metadata>(metadata_names::kExemplarCount);
+  const auto block = layout_medium.metadata.getMetadata<openvdb::Vec3IMetadata>(metadata_names::kExemplarBlock);
+  if (!count || !block) return;  // a layout grid alone: its ids are checked against the set
+  const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);
+  if (count->value() != set.count)
+    throw MediumError(fmt::format("{}: a layout of {} exemplars; the block set {} holds {}", layout_medium.source,
+                                  count->value(), blocks.source, set.count));
+  // World size of a block: exemplar_block counts voxels of exemplar_voxel_size, else of the medium's own.
+  const auto original = layout_medium.metadata.getMetadata<openvdb::Vec3DMetadata>(metadata_names::kExemplarVoxelSize);
+  const openvdb::Vec3d voxel = original ? original->value() : layout_medium.transform().voxelSize();
+  const openvdb::Vec3d theirs(block->value().x() * voxel.x(), block->value().y() * voxel.y(), block->value().z() * voxel.z());
+  const openvdb::Vec3d here = blocks.transform().voxelSize();
+  const openvdb::Vec3d ours(set.block.x() * here.x(), set.block.y() * here.y(), set.block.z() * here.z());
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(theirs[a] - ours[a]) <= 1e-6 * std::max(theirs[a], ours[a])))
+      throw MediumError(fmt::format("{}: its blocks measure {:g} x {:g} x {:g} world units; those of the block set {} "
+                                    "measure {:g} x {:g} x {:g}: not a layout of these blocks", layout_medium.source,
+                                    theirs.x(), theirs.y(), theirs.z(), blocks.source, ours.x(), ours.y(), ours.z()));
+}
 
 MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout) {
   const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);

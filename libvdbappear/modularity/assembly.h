@@ -9,6 +9,11 @@
 
 namespace vdbappear {
 
+// A layout taken from another medium (assemble --layout MEDIUM) must describe blocks of this set: the
+// same exemplar count and the same block size in world units (the resolutions may differ: a reduced
+// block set assembled with the full one's layout). Throws MediumError naming both files otherwise.
+void checkLayoutMedium(const Medium& layout_medium, const Medium& blocks);
+
 // The model whose block (i, j, k) holds, bit for bit, the voxels of exemplar layout.at(i, j, k)
 // (index x in [i*Bx, (i+1)*Bx), ...; the block set's transform). Every grid and the metadata
 // (weight_factors included) are carried; exemplar_layout becomes `layout`, exemplar_kind = model and

@@ -201,6 +201,20 @@ TEST(ExemplarStackCli, BadInputIsOneErrorLineAndNoOutput) {
   expectRefused(b, kStack + " assemble --layout " + quote(cube) + " " + quote(b.blocks) + out,
                 cube + ": no grid 'exemplar_layout'");
 
+  // Layouts from media of other blocks: another exemplar count, another block size.
+  const std::string six = b.dir.path("six.vdb"), wide = b.dir.path("wide.vdb");
+  ASSERT_EQ(runCommand(kMakeMedium + " exemplars --count 6 --res 32 -o " + quote(six)).status, 0);
+  expectRefused(b, kStack + " assemble --layout " + quote(six) + " " + quote(b.blocks) + out,
+                six + ": a layout of 6 exemplars; the block set " + b.blocks + " holds 4");
+  ASSERT_EQ(runCommand(kMakeMedium + " exemplars --count 4 --yarns 8 --res 32 -o " + quote(wide)).status, 0);
+  expectRefused(b, kStack + " assemble --layout " + quote(wide) + " " + quote(b.blocks) + out, "world units");
+  // ... while the full set's layout serves its reduced blocks.
+  const std::string reduced = b.dir.path("reduced.vdb"), reduced_stack = b.dir.path("reduced_stack.vdb");
+  ASSERT_EQ(runCommand(quote(VDB_SGGX_DOWNSAMPLE) + " -f 4 " + quote(stacked) + " " + quote(reduced_stack)).status, 0);
+  ASSERT_EQ(runCommand(kStack + " split " + quote(reduced_stack) + " " + quote(reduced)).status, 0);
+  EXPECT_EQ(runCommand(kStack + " assemble --layout " + quote(b.blocks) + " " + quote(reduced) + " " +
+                       quote(b.dir.path("ok.vdb"))).status, 0);
+
   // A stack reduced by a factor that does not divide the block side (8 voxels along z).
   const std::string by3 = b.dir.path("stacked_3x.vdb");
   ASSERT_EQ(runCommand(quote(VDB_SGGX_DOWNSAMPLE) + " -f 3 " + quote(stacked) + " " + quote(by3)).status, 0);
