@@ -99,6 +99,9 @@ def seam_masks(folder, camera_flags, size, plane_z, blocks_x, blocks_y):
 
 
 class Modularity(Experiment):
+    def __init__(self, args):
+        super().__init__(args)
+        self.stack_flags = args.stack_flags.split()
     def timed(self, name, *args):
         start = time.monotonic()
         self.tool(name, *args)
@@ -117,7 +120,7 @@ class Modularity(Experiment):
         d = self.out / f"stack_{seed}" if optimiser_seed == 1 else self.out / f"stack_{seed}_seed_{optimiser_seed}"
         d.mkdir(exist_ok=True)
         stacked, lobes, opt = d / "stacked.vdb", d / "lobes.vdb", d / "optimised.vdb"
-        seconds = {"stack": self.timed("vdb_exemplar_stack", "stack", "--seed", seed, blocks, stacked)}
+        seconds = {"stack": self.timed("vdb_exemplar_stack", "stack", "--seed", seed, *self.stack_flags, blocks, stacked)}
         seconds["lobes"] = self.timed("vdb_lobe_cluster", "-f", FACTOR, "--lobes", LOBES, "--clusters", CLUSTERS,
                                       stacked, lobes)
         seconds["optimise"] = self.timed("vdb_optimize_weights", stacked, lobes, opt, "--cache", self.cache,
@@ -310,6 +313,7 @@ def main():
     parser.add_argument("--size", default="240x180", help="held-out image size")
     parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
     parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
+    parser.add_argument("--stack-flags", default="", help="extra flags for vdb_exemplar_stack stack (e.g. --shape 3x2x1)")
     args = parser.parse_args()
     start = time.monotonic()
     m = Modularity(args)

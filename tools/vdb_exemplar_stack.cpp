@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cstdio>
 #include <sstream>
 
 using namespace vdbappear;
@@ -43,7 +44,7 @@ grid, or JSON: [[[id, ...], ...], ...], sheets (z) of rows (y) of ids (x); a 2-D
 sheet; -1 leaves a block empty). See docs/modularity.md.)";
 
 struct Options {
-  std::string input, output, report, layout, order = "random";
+  std::string input, output, report, layout, order = "random", shape;
   std::uint64_t seed = 1;
   bool verbose = false, instanced = false;
 };
@@ -51,6 +52,13 @@ struct Options {
 StackOptions stackOptions(const Options& options) {
   StackOptions stack;
   stack.seed = options.seed;
+  if (!options.shape.empty()) {
+    char x1 = 0, x2 = 0, rest = 0;
+    auto& n = stack.shape;
+    if (std::sscanf(options.shape.c_str(), "%d%c%d%c%d%c", &n[0], &x1, &n[1], &x2, &n[2], &rest) != 5 || x1 != 'x' ||
+        x2 != 'x' || n[0] < 1 || n[1] < 1 || n[2] < 1)
+      throw std::invalid_argument(fmt::format("--shape '{}': expected NXxNYxNZ slots, each at least 1", options.shape));
+  }
   if (options.order == "random") return stack;
   if (options.order == "sorted") {
     stack.order = StackOptions::Order::Sorted;
@@ -95,6 +103,7 @@ int runCommand(const std::string& command, const Options& options, const std::st
     const StackOptions stack = stackOptions(options);
     out = stackExemplars(*in, stack);
     details["order"] = options.order;
+    details["shape"] = options.shape.empty() ? "most cubic" : options.shape;
     details["seed"] = options.seed;
   } else if (command == "split") {
     out = splitStacked(*in);
@@ -151,6 +160,9 @@ int main(int argc, char** argv) {
   stack->add_option("--order", options.order,
                     "placement of the exemplars in the volume's slots (x fastest): random (default), sorted, or a "
                     "comma-separated permutation of 0..N-1");
+  stack->add_option("--shape", options.shape,
+                    "slots of the exemplar volume along x, y, z, as NXxNYxNZ (default: the most cubic volume; 3x2x1 "
+                    "puts six sheets side by side)");
   stack->add_option("--seed", options.seed, "seed of the random placement (default 1)")->check(CLI::NonNegativeNumber);
   addCommand(app, "split", "a stacked volume (after any step of the pipeline) -> N blocks side by side", "STACKED",
              options);

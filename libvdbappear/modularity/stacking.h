@@ -18,6 +18,7 @@ struct StackOptions {
   Order order = Order::Random;
   std::vector<int> permutation;  // Given: slot s holds exemplar permutation[s], each of 0..N-1 once
   std::uint64_t seed = 1;        // Random: the shuffle's seed
+  std::array<int, 3> shape{0, 0, 0};  // slots along x, y, z; zeros: stackShape's
 };
 
 using BlockCounts = std::array<int, 3>;  // along x, y, z

@@ -117,6 +117,14 @@ TEST(ExemplarStackCli, JsonLayoutsAndPipes) {
   ASSERT_EQ(pipe.status, 0) << pipe.err;
   EXPECT_EQ(readMedium(back)->density->activeVoxelCount(), readMedium(b.blocks)->density->activeVoxelCount());
   EXPECT_EQ(test::readFileBytes(b.blocks), bytes);
+
+  // --shape 2x2x1: the four 32 x 32 x 8 sheets side by side in one layer.
+  const std::string flat = b.dir.path("flat.vdb");
+  ASSERT_EQ(runCommand(kStack + " stack --shape 2x2x1 " + quote(b.blocks) + " " + quote(flat)).status, 0);
+  const openvdb::CoordBBox box = readMedium(flat)->density->evalActiveVoxelBoundingBox();
+  EXPECT_EQ(box.max().x(), 63);
+  EXPECT_EQ(box.max().y(), 63);
+  EXPECT_LT(box.max().z(), 8);
 }
 
 // An instanced model renders the image of the model built voxel by voxel: same lookups, same per-block
@@ -176,7 +184,8 @@ TEST(ExemplarStackCli, NonsenseFlagsFailWithoutOutput) {
   const Blocks b;
   const std::string io = " " + quote(b.blocks) + " " + quote(b.out);
   for (const std::string flags : {"", "bogus", "stack", "stack --order abc", "stack --order 0,1,2", "stack --order 0,0,1,2",
-                                  "stack --order 0,1,2,x", "stack --seed -1", "split --order 0", "stack --bogus 1"}) {
+                                  "stack --order 0,1,2,x", "stack --seed -1",
+                                  "stack --shape 1x1x3", "stack --shape 2x2", "stack --shape 0x4x1", "stack --shape 2x2x1x", "split --order 0", "stack --bogus 1"}) {
     const std::string command = kStack + " " + flags + (flags == "" || flags == "stack" ? "" : io);
     const auto r = runCommand(command);
     EXPECT_NE(r.status, 0) << command;
