@@ -76,14 +76,19 @@ void removeGrid(Medium& medium, const std::string& name) {
 }  // namespace
 
 BlockCounts stackShape(int count, const BlockCounts& block) {
+  const bool sheets = 2 * block[2] < std::min(block[0], block[1]);
   BlockCounts best{count, 1, 1};
   double best_area = std::numeric_limits<double>::infinity();
   for (int nx = 1; nx <= count; ++nx)
-    for (int ny = 1; nx * ny <= count; ++ny) {
+    for (int ny = 1; nx * ny <= count || (sheets && ny <= count); ++ny) {
+      if (sheets && (nx * ny < count || (nx - 1) * ny >= count)) continue;  // one layer, no empty column
+      if (sheets && nx * (ny - 1) >= count) break;                           // ... and no empty row
       const int nz = (count + nx * ny - 1) / (nx * ny);
       const double a = double(nx) * block[0], b = double(ny) * block[1], c = double(nz) * block[2];
-      const double area = a * b + b * c + a * c;
-      if (area < best_area - 1e-9) best_area = area, best = {nx, ny, nz};
+      // A layer of sheets: the least perimeter (the most square), then the fewest slots; a volume:
+      // the least surface.
+      const double cost = sheets ? a + b + 1e-6 * nx * ny : a * b + b * c + a * c;
+      if (cost < best_area - 1e-9) best_area = cost, best = {nx, ny, nz};
     }
   return best;
 }

@@ -91,9 +91,12 @@ TEST(ExemplarStack, ShapeIsNearCubicWithAtMostOneIncompleteLayer) {
     EXPECT_GE(layer * shape[2], count) << count;
     EXPECT_LT(layer * (shape[2] - 1), count) << count << ": a whole layer left empty";
   }
-  // Flat blocks stack along z: six 64x64x16 sheets make a 64 x 64 x 96 volume, not a 384-long row.
-  EXPECT_EQ(stackShape(6, {64, 64, 16}), (BlockCounts{1, 1, 6}));
+  // Sheets lie side by side in one layer, as square as the count allows; cubes make a cube.
+  EXPECT_EQ(stackShape(6, {64, 64, 16}), (BlockCounts{2, 3, 1}));
+  EXPECT_EQ(stackShape(7, {64, 64, 16}), (BlockCounts{2, 4, 1}));
+  EXPECT_EQ(stackShape(120, {64, 64, 16}), (BlockCounts{10, 12, 1}));
   EXPECT_EQ(stackShape(8, {16, 16, 16}), (BlockCounts{2, 2, 2}));
+  EXPECT_EQ(stackShape(6, {64, 64, 40}), (BlockCounts{1, 2, 3}));
 }
 
 TEST(ExemplarStack, RandomOrderIsASeededPermutation) {
@@ -152,10 +155,11 @@ TEST(ExemplarStack, SplitUndoesStackBitForBit) {
   const MediumPtr stacked = stackExemplars(*blocks, options);
   EXPECT_EQ(stacked->metadata.metaValue<std::string>(metadata_names::kExemplarKind), "stacked");
   EXPECT_EQ(stacked->density->activeVoxelCount(), blocks->density->activeVoxelCount());
-  // The stacked volume is near-cubic: five 32x32x8 blocks fill 32 x 32 x 40 (slots 1 x 1 x 5).
+  // Five 32x32x8 sheets lie side by side in a 2 x 3 layer of slots.
   const openvdb::CoordBBox box = stacked->density->evalActiveVoxelBoundingBox();
-  EXPECT_LE(box.max().x(), kSide - 1);
-  EXPECT_GE(box.max().z(), 4 * 8);
+  EXPECT_LE(box.max().x(), 2 * kSide - 1);
+  EXPECT_GE(box.max().y(), 2 * kSide);
+  EXPECT_LT(box.max().z(), 8);
   const MediumPtr back = splitStacked(*stacked);
   expectSameVoxels(*blocks, *back, 0, 0);
   EXPECT_FALSE(findOtherGrid<openvdb::Int32Grid>(*back, grid_names::kExemplarStacking));
