@@ -35,10 +35,11 @@ constexpr const char* kExamples = R"(Examples:
   vdb_exemplar_stack assemble --layout damask.json blocks_4x.vdb damask_4x.vdb
   vdb_exemplar_stack assemble --instanced --layout huge.json blocks_4x.vdb huge.vdb && vdb_render huge.vdb -o huge.exr
 
-stack: the N blocks (side by side along x, docs/medium.md section 6b) are placed in the slots of a
-near-cubic exemplar volume, randomly under --seed (or --order sorted, or --order 2,0,1,...); the
-placement is the grid exemplar_stacking. split: any output of the pipeline on a stacked volume
-back to N blocks side by side, at its resolution. assemble: block (i,j,k) of the model holds the
+stack: the N blocks (side by side along x, docs/medium.md section 6b) are placed in the slots of an
+exemplar volume (sheets: one square layer; other blocks: near-cubic; or --shape), randomly under
+--seed (or --order sorted, or --order 2,0,1,...); the placement is the grid exemplar_stacking.
+split: any output of the pipeline on a stacked volume back to N blocks side by side, at its
+resolution. assemble: block (i,j,k) of the model holds the
 exemplar its layout names: the block set's exemplar_layout grid, or --layout (a medium with such a
 grid, or JSON: [[[id, ...], ...], ...], sheets (z) of rows (y) of ids (x); a 2-D array is one
 sheet; -1 leaves a block empty). See docs/modularity.md.)";
@@ -156,7 +157,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.fallthrough();
   Options options;
-  CLI::App* stack = addCommand(app, "stack", "N blocks side by side -> one near-cubic exemplar volume", "BLOCKS", options);
+  CLI::App* stack = addCommand(app, "stack", "N blocks side by side -> one exemplar volume (sheets: one square layer)", "BLOCKS", options);
   stack->add_option("--order", options.order,
                     "placement of the exemplars in the volume's slots (x fastest): random (default), sorted, or a "
                     "comma-separated permutation of 0..N-1");

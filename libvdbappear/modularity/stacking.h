@@ -1,7 +1,7 @@
 #pragma once
 // §7 of the downsampling paper, "Downsampling exemplars": the N exemplar blocks are stacked
-// (randomly) into one near-cubic exemplar volume, which the whole pipeline (naive, lobes, clusters,
-// weight optimisation) reduces once; `splitStacked` cuts the result back into reduced blocks, whose
+// (randomly) into one exemplar volume (sheets in one layer), which the whole pipeline (naive, lobes,
+// clusters, weight optimisation) reduces once; `splitStacked` cuts the result back into reduced blocks, whose
 // cluster ids and scaled phase functions then agree across blocks by construction.
 // Light header: no OpenVDB.
 
