@@ -37,7 +37,7 @@ import subprocess
 import sys
 import time
 
-from optimize_experiment import Experiment
+from optimize_experiment import Experiment, add_render_arguments, comparison_pictures
 
 FACTOR, LOBES, CLUSTERS = 4, 2, 2
 BLOCK_WORLD = 4.0  # a block of vdb_make_medium exemplars: 4 yarns of 1 world unit
@@ -306,20 +306,13 @@ def write_report(out, r):
     lines += ["", "## Pictures", ""]
     for model in ("A", "B"):
         for tag in r["held_out"][model]:
-            lines += [f"Model {model}, {tag}: full | naive | error map, then full | optimised | error map (red: brighter, "
-                      "blue: darker, saturating at 25%)", "",
-                      f"![naive]({model}/compare_naive_{tag}.png)", f"![optimised]({model}/compare_optimised_{tag}.png)", ""]
+            lines += comparison_pictures(model, tag, f"Model {model}, {tag}")
     (out / "report.md").write_text("\n".join(lines) + "\n")
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build", default="build")
-    parser.add_argument("--out", default="modularity-out")
-    parser.add_argument("--spp", type=int, default=128, help="samples per pixel of the held-out renders")
-    parser.add_argument("--size", default="240x180", help="held-out image size")
-    parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
-    parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
+    add_render_arguments(parser, "modularity-out")
     parser.add_argument("--stack-flags", default="", help="extra flags for vdb_exemplar_stack stack (e.g. --shape 3x2x1)")
     args = parser.parse_args()
     start = time.monotonic()

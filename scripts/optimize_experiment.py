@@ -225,6 +225,24 @@ class Experiment:
         return result
 
 
+def comparison_pictures(folder, tag, title):
+    """Report lines showing the naive and the optimised side-by-side images of one held-out render."""
+    return [f"{title}: full | naive | error map, then full | optimised | error map (red: brighter, blue: darker, "
+            "saturating at 25%)", "",
+            f"![naive]({folder}/compare_naive_{tag}.png)", f"![optimised]({folder}/compare_optimised_{tag}.png)", ""]
+
+
+def add_render_arguments(parser, out):
+    """The flags that make optimize and make modularity share: build, output folder, held-out renders,
+    cache and extra optimiser flags."""
+    parser.add_argument("--build", default="build")
+    parser.add_argument("--out", default=out)
+    parser.add_argument("--spp", type=int, default=128, help="samples per pixel of the held-out renders")
+    parser.add_argument("--size", default="240x180", help="held-out image size")
+    parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
+    parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
+
+
 def verdict(case):
     """The acceptance of the issue for one case: under each held-out light, |optimised| <= |naive| / 3
     and (at 4x) <= 2%, and tile RMSE below the naive one."""
@@ -271,22 +289,15 @@ def write_report(out, results, timings, grid):
         lines += [f"### {name}: {results[name]['note']}", "",
                   f"![convergence]({name}/convergence.png)", ""]
         for tag in results[name]["held_out"]:
-            lines += [f"{tag}: full | naive | error map, then full | optimised | error map (red: brighter, blue: "
-                      f"darker, saturating at 25%)", "",
-                      f"![naive]({name}/compare_naive_{tag}.png)", f"![optimised]({name}/compare_optimised_{tag}.png)", ""]
+            lines += comparison_pictures(name, tag, tag)
     (out / "report.md").write_text("\n".join(lines) + "\n")
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build", default="build")
-    parser.add_argument("--out", default="optimize-out")
+    add_render_arguments(parser, "optimize-out")
     parser.add_argument("--cases", default=",".join(CASES))
-    parser.add_argument("--spp", type=int, default=128, help="samples per pixel of the held-out renders")
-    parser.add_argument("--size", default="240x180", help="held-out image size")
     parser.add_argument("--no-grid", action="store_true", help="skip the generalisation grid")
-    parser.add_argument("--keep-cache", action="store_true", help="keep the reference cache of an earlier run")
-    parser.add_argument("--optimize-flags", default="", help="extra flags for vdb_optimize_weights (studies)")
     args = parser.parse_args()
     experiment = Experiment(args)
     results, timings = {}, {}
