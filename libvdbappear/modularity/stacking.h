@@ -28,8 +28,8 @@ using BlockCounts = std::array<int, 3>;  // along x, y, z
 // thinner than half their width and length, like fabric) among the single layers (nz = 1), so that
 // the training views from above see every exemplar as they see a model. Measured (make modularity,
 // docs/modularity.md §4): six 64x64x16 sheets stacked in a 1x1x6 column moved the held-out mean of a
-// model by 1.5-1.7% from one random stacking to another, 10-35x the noise; in a 3x2x1 layer by 0.05%
-// and 0.14%, within the optimiser's own spread.
+// model by 1.5-1.7% from one random stacking to another; in a 2x3x1 layer it spreads by 0.3% over
+// four stackings (the noise of the comparison: 0.1%).
 BlockCounts stackShape(int count, const BlockCounts& block);
 
 // Slot s (x fastest) -> exemplar, for the first `count` slots; throws std::invalid_argument for a
