@@ -17,6 +17,7 @@
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -196,8 +197,6 @@ std::vector<PolygonLight> gridLights(const Options& o, const std::optional<Scene
 // Memory a node takes while the grid is built and written: its coefficients and gradients in
 // double (ShLighting) and, while writing, their float copies in the VDB grids.
 double bytesPerNode(int lmax) { return shCount(lmax) * (3 + 9) * (sizeof(double) + sizeof(float)); }
-
-double physicalMemoryBytes() { return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)); }
 
 // A grid that cannot fit in memory fails here with a message, not later by the kernel's hand.
 void checkGridMemory(double nodes, int lmax) {

@@ -4,11 +4,13 @@
 #include "libvdbappear/modularity/exemplar_set.h"
 
 #include "libvdbappear/util/error.h"
+#include "libvdbappear/util/system_memory.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace vdbappear {
 
@@ -26,6 +28,28 @@ openvdb::Int32Grid::Ptr layoutGrid(const ExemplarLayout& layout, const openvdb::
       for (int i = 0; i < layout.width; ++i)
         if (layout.at(i, j, k) != ExemplarLayout::kEmpty) accessor.setValueOn(Coord(i, j, k), layout.at(i, j, k));
   return grid;
+}
+
+// Bytes a built model's grids take: per active voxel, every voxel grid's value, plus a quarter for
+// the trees (leaf masks, nodes). The placed exemplars' active voxels are counted from the density.
+double builtModelBytes(const Medium& blocks, const BlockMoves& moves) {
+  std::map<Coord, std::uint64_t> voxels;  // per exemplar block
+  for (auto v = blocks.density->cbeginValueOn(); v; ++v) voxels[blockOf(v.getCoord(), moves.block)] += v.getVoxelCount();
+  double placed = 0;
+  for (const auto& [block, copies] : moves.destinations) placed += double(voxels[block]) * double(copies.size());
+  double bytes_per_voxel = 0;
+  for (const auto& grid : blocks.grids())
+    if (!isBlockIndexedGridName(grid->getName()) && grid->getName() != grid_names::kPhaseTable)
+      bytes_per_voxel += grid->valueType() == "vec3s" ? 12 : 4;
+  return placed * bytes_per_voxel * 1.25;
+}
+
+void checkModelFits(const Medium& blocks, const BlockMoves& moves) {
+  const double needed = builtModelBytes(blocks, moves), available = physicalMemoryBytes();
+  if (available > 0 && needed > 0.8 * available)
+    throw MediumError(fmt::format("{}: the model would take about {:.1f} GB in memory, more than 80% of this machine's "
+                                  "{:.1f} GB: assemble it with --instanced (vdb_render renders it through the layout)",
+                                  blocks.source, needed / 1e9, available / 1e9));
 }
 
 void replaceLayout(Medium& medium, const ExemplarLayout& layout) {
@@ -69,6 +93,7 @@ MediumPtr assembleModel(const Medium& blocks, const ExemplarLayout& layout) {
       for (int i = 0; i < layout.width; ++i)
         if (layout.at(i, j, k) != ExemplarLayout::kEmpty)
           moves.destinations[Coord(layout.at(i, j, k), 0, 0)].push_back(Coord(i, j, k));
+  checkModelFits(blocks, moves);
   MediumPtr model = moveBlocks(blocks, moves);
   replaceLayout(*model, layout);
   writeExemplarSet(*model, {set.count, set.block, ExemplarKind::Model, 1,

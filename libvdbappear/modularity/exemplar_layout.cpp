@@ -48,6 +48,9 @@ ExemplarLayout readLayoutJson(const std::string& path) {
     throw MediumError(fmt::format("{}: not a JSON layout: {}", path, e.what()));
   }
   const json sheets = sheetsOf(document, path);
+  const double blocks = double(sheets.size()) * double(sheets[0].size()) * double(sheets[0][0].size());
+  if (blocks > kMaxLayoutBlocks)
+    throw MediumError(fmt::format("{}: {} blocks, more than {}", path, blocks, kMaxLayoutBlocks));
   ExemplarLayout layout;
   layout.depth = int(sheets.size());
   layout.height = int(sheets[0].size());

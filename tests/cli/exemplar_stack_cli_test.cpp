@@ -239,6 +239,19 @@ TEST(ExemplarStackCli, BadInputIsOneErrorLineAndNoOutput) {
   expectRefused(b, kStack + " assemble --layout " + quote(b.write("junk.json", "[[0, 1")) + " " + quote(b.blocks) + out,
                 "junk.json: not a JSON layout");
 
+  // A model that cannot fit in memory (1000 x 1000 blocks of thousands of voxels each: billions of
+  // voxels, hundreds of GB) is refused before it is built, with the way out.
+  {
+    std::string rows = "[";
+    for (int j = 0; j < 1000; ++j) {
+      rows += j ? ",[" : "[";
+      for (int i = 0; i < 1000; ++i) rows += i ? ",1" : "1";
+      rows += "]";
+    }
+    expectRefused(b, kStack + " assemble --layout " + quote(b.write("huge.json", rows + "]")) + " " + quote(b.blocks) + out,
+                  "assemble it with --instanced");
+  }
+
   // A truncated block set.
   const std::string truncated = b.dir.path("truncated.vdb");
   {
