@@ -103,8 +103,10 @@ int runCommand(const std::string& command, const Options& options, const std::st
   if (command == "stack") {
     const StackOptions stack = stackOptions(options);
     out = stackExemplars(*in, stack);
+    const BlockCounts shape = stackShapeFor(*in, stack);
     details["order"] = options.order;
-    details["shape"] = options.shape.empty() ? "most cubic" : options.shape;
+    details["shape"] = shape;
+    if (options.verbose) fmt::print(stderr, "{} stack: {}x{}x{} slots\n", kTool, shape[0], shape[1], shape[2]);
     details["seed"] = options.seed;
   } else if (command == "split") {
     out = splitStacked(*in);

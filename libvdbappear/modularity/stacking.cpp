@@ -107,15 +107,19 @@ std::vector<int> stackOrder(int count, const StackOptions& options) {
   return options.permutation;
 }
 
+BlockCounts stackShapeFor(const Medium& blocks, const StackOptions& options) {
+  const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);
+  if (options.shape[0] <= 0) return stackShape(set.count, {set.block.x(), set.block.y(), set.block.z()});
+  const BlockCounts& shape = options.shape;
+  if (double(shape[0]) * shape[1] * shape[2] < set.count)
+    throw std::invalid_argument(fmt::format("--shape {}x{}x{}: {} slots for {} exemplars", shape[0], shape[1], shape[2],
+                                            double(shape[0]) * shape[1] * shape[2], set.count));
+  return shape;
+}
+
 MediumPtr stackExemplars(const Medium& blocks, const StackOptions& options) {
   const ExemplarSet set = readExemplarSet(blocks, ExemplarKind::Blocks);
-  BlockCounts shape = stackShape(set.count, {set.block.x(), set.block.y(), set.block.z()});
-  if (options.shape[0] > 0) {
-    shape = options.shape;
-    if (double(shape[0]) * shape[1] * shape[2] < set.count)
-      throw std::invalid_argument(fmt::format("--shape {}x{}x{}: {} slots for {} exemplars", shape[0], shape[1],
-                                              shape[2], double(shape[0]) * shape[1] * shape[2], set.count));
-  }
+  const BlockCounts shape = stackShapeFor(blocks, options);
   const std::vector<int> order = stackOrder(set.count, options);
   BlockMoves moves{set.block, {}};
   for (std::size_t s = 0; s < order.size(); ++s) moves.destinations[Coord(order[s], 0, 0)] = {slotOf(int(s), shape)};

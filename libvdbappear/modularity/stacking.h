@@ -32,6 +32,9 @@ using BlockCounts = std::array<int, 3>;  // along x, y, z
 // four stackings (the noise of the comparison: 0.1%).
 BlockCounts stackShape(int count, const BlockCounts& block);
 
+// The slots stackExemplars uses for this block set: options.shape, or stackShape's. Throws like it.
+BlockCounts stackShapeFor(const Medium& blocks, const StackOptions& options);
+
 // Slot s (x fastest) -> exemplar, for the first `count` slots; throws std::invalid_argument for a
 // given permutation that is not one of 0..count-1.
 std::vector<int> stackOrder(int count, const StackOptions& options);

@@ -118,9 +118,11 @@ TEST(ExemplarStackCli, JsonLayoutsAndPipes) {
   EXPECT_EQ(readMedium(back)->density->activeVoxelCount(), readMedium(b.blocks)->density->activeVoxelCount());
   EXPECT_EQ(test::readFileBytes(b.blocks), bytes);
 
-  // --shape 2x2x1: the four 32 x 32 x 8 sheets side by side in one layer.
+  // --shape 2x2x1: the four 32 x 32 x 8 sheets side by side in one layer; the report says so.
   const std::string flat = b.dir.path("flat.vdb");
-  ASSERT_EQ(runCommand(kStack + " stack --shape 2x2x1 " + quote(b.blocks) + " " + quote(flat)).status, 0);
+  const auto stacked = runCommand(kStack + " stack --shape 2x2x1 --report - " + quote(b.blocks) + " " + quote(flat));
+  ASSERT_EQ(stacked.status, 0) << stacked.err;
+  EXPECT_EQ(nlohmann::json::parse(stacked.out)["shape"], nlohmann::json::array({2, 2, 1}));
   const openvdb::CoordBBox box = readMedium(flat)->density->evalActiveVoxelBoundingBox();
   EXPECT_EQ(box.max().x(), 63);
   EXPECT_EQ(box.max().y(), 63);
