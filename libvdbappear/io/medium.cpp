@@ -1,5 +1,6 @@
 #include "libvdbappear/io/medium.h"
 
+#include <algorithm>
 #include <regex>
 
 namespace vdbappear {
@@ -19,6 +20,12 @@ openvdb::GridCPtrVec Medium::grids() const {
 bool isLobeGridName(const std::string& name) {
   static const std::regex lobe("lobe[0-9]+_(diag|offdiag|fraction|weight)");
   return std::regex_match(name, lobe);
+}
+
+void removeOtherGrid(Medium& medium, const std::string& name) {
+  auto& grids = medium.other_grids;
+  grids.erase(std::remove_if(grids.begin(), grids.end(), [&](const auto& g) { return g->getName() == name; }),
+              grids.end());
 }
 
 bool isBlockIndexedGridName(const std::string& name) {

@@ -75,6 +75,9 @@ typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name)
   return nullptr;
 }
 
+// Drops the grids of other_grids with this name.
+void removeOtherGrid(Medium& medium, const std::string& name);
+
 // lobe{j}_diag, lobe{j}_offdiag, lobe{j}_fraction, lobe{j}_weight (j = 0, 1, ...): multi-lobe grids.
 bool isLobeGridName(const std::string& name);
 

@@ -33,8 +33,7 @@ openvdb::Int32Grid::Ptr layoutGrid(const ExemplarLayout& layout, const openvdb::
 // Bytes a built model's grids take: per active voxel, every voxel grid's value, plus a quarter for
 // the trees (leaf masks, nodes). The placed exemplars' active voxels are counted from the density.
 double builtModelBytes(const Medium& blocks, const BlockMoves& moves) {
-  std::map<Coord, std::uint64_t> voxels;  // per exemplar block
-  for (auto v = blocks.density->cbeginValueOn(); v; ++v) voxels[blockOf(v.getCoord(), moves.block)] += v.getVoxelCount();
+  std::map<Coord, std::uint64_t> voxels = activeVoxelsPerBlock(*blocks.density, moves.block);
   double placed = 0;
   for (const auto& [block, copies] : moves.destinations) placed += double(voxels[block]) * double(copies.size());
   double bytes_per_voxel = 0;
@@ -53,11 +52,8 @@ void checkModelFits(const Medium& blocks, const BlockMoves& moves) {
 }
 
 void replaceLayout(Medium& medium, const ExemplarLayout& layout) {
-  auto& grids = medium.other_grids;
-  grids.erase(std::remove_if(grids.begin(), grids.end(),
-                             [](const auto& g) { return g->getName() == grid_names::kExemplarLayout; }),
-              grids.end());
-  grids.push_back(layoutGrid(layout, medium.density->transformPtr()));
+  removeOtherGrid(medium, grid_names::kExemplarLayout);
+  medium.other_grids.push_back(layoutGrid(layout, medium.density->transformPtr()));
 }
 
 }  // namespace

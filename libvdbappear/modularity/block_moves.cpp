@@ -14,8 +14,6 @@ using openvdb::Coord;
 
 namespace {
 
-int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-
 Coord scaled(const Coord& b, const Coord& block) { return Coord(b.x() * block.x(), b.y() * block.y(), b.z() * block.z()); }
 
 // Writes one grid's moved values through an accessor, remembering the last block looked up (values
@@ -87,8 +85,10 @@ openvdb::GridBase::Ptr moveOtherGrid(const openvdb::GridBase& grid, const BlockM
 
 }  // namespace
 
-Coord blockOf(const Coord& ijk, const Coord& block) {
-  return Coord(floorDiv(ijk.x(), block.x()), floorDiv(ijk.y(), block.y()), floorDiv(ijk.z(), block.z()));
+std::map<Coord, std::uint64_t> activeVoxelsPerBlock(const openvdb::FloatGrid& density, const Coord& block) {
+  std::map<Coord, std::uint64_t> voxels;
+  for (auto v = density.cbeginValueOn(); v; ++v) voxels[blockOf(v.getCoord(), block)] += v.getVoxelCount();
+  return voxels;
 }
 
 openvdb::FloatGrid::Ptr moveFloatGrid(const openvdb::FloatGrid& grid, const BlockMoves& moves, const std::string& file) {

@@ -5,6 +5,7 @@
 
 #include "libvdbappear/io/medium.h"
 
+#include <cstdint>
 #include <map>
 #include <vector>
 
@@ -17,7 +18,15 @@ struct BlockMoves {
 };
 
 // The block holding voxel ijk (floor division: blocks left of or below the origin are negative).
-openvdb::Coord blockOf(const openvdb::Coord& ijk, const openvdb::Coord& block);
+// Inline: instanced renders call it at every lookup.
+inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+inline openvdb::Coord blockOf(const openvdb::Coord& ijk, const openvdb::Coord& block) {
+  return openvdb::Coord(floorDiv(ijk.x(), block.x()), floorDiv(ijk.y(), block.y()), floorDiv(ijk.z(), block.z()));
+}
+
+// Active density voxels per block (tiles counted whole, in the block of their first voxel).
+std::map<openvdb::Coord, std::uint64_t> activeVoxelsPerBlock(const openvdb::FloatGrid& density,
+                                                             const openvdb::Coord& block);
 
 // `source` with every voxel-indexed grid's active values moved as `moves` says, bit for bit;
 // block-indexed grids (exemplar_layout, exemplar_stacking), the phase table and the metadata are

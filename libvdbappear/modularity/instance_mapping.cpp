@@ -1,6 +1,5 @@
 #include "libvdbappear/modularity/instance_mapping.h"
 
-#include "libvdbappear/modularity/block_moves.h"
 #include "libvdbappear/modularity/exemplar_set.h"
 #include "libvdbappear/util/error.h"
 
@@ -83,14 +82,10 @@ openvdb::FloatGrid::Ptr InstanceMapping::modelGrid(const openvdb::FloatGrid& set
 }
 
 std::uint64_t InstanceMapping::modelVoxelCount(const openvdb::FloatGrid& density) const {
-  std::vector<std::uint64_t> voxels(static_cast<std::size_t>(count_), 0);
-  for (auto v = density.cbeginValueOn(); v; ++v) {
-    const Coord b = blockOf(v.getCoord(), block_);
-    if (b.x() >= 0 && b.x() < count_ && b.y() == 0 && b.z() == 0) voxels[std::size_t(b.x())] += v.getVoxelCount();
-  }
+  std::map<Coord, std::uint64_t> voxels = activeVoxelsPerBlock(density, block_);
   std::uint64_t total = 0;
   for (int e : layout_.ids)
-    if (e != ExemplarLayout::kEmpty) total += voxels[std::size_t(e)];
+    if (e != ExemplarLayout::kEmpty) total += voxels[Coord(e, 0, 0)];
   return total;
 }
 

@@ -5,6 +5,7 @@
 // with the block set and the layout, not with the model. Includes OpenVDB (library code only).
 
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/modularity/block_moves.h"
 #include "libvdbappear/modularity/exemplar_layout.h"
 
 #include <optional>
@@ -21,7 +22,7 @@ class InstanceMapping {
   // The block-set voxel that model voxel `v` reads; a voxel far from every grid's data where the
   // layout has no exemplar.
   openvdb::Coord operator()(const openvdb::Coord& v) const {
-    const openvdb::Coord b(floorDiv(v.x(), block_.x()), floorDiv(v.y(), block_.y()), floorDiv(v.z(), block_.z()));
+    const openvdb::Coord b = blockOf(v, block_);
     if (b.x() < 0 || b.y() < 0 || b.z() < 0 || b.x() >= layout_.width || b.y() >= layout_.height ||
         b.z() >= layout_.depth)
       return kNowhere;
@@ -44,7 +45,6 @@ class InstanceMapping {
   std::uint64_t modelVoxelCount(const openvdb::FloatGrid& density) const;
 
  private:
-  static int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
   static inline const openvdb::Coord kNowhere{-(1 << 29)};
 
   openvdb::Coord block_;

@@ -67,12 +67,6 @@ std::map<Coord, int> placementOf(const Medium& stacked, int count) {
   return placement;
 }
 
-void removeGrid(Medium& medium, const std::string& name) {
-  auto& grids = medium.other_grids;
-  grids.erase(std::remove_if(grids.begin(), grids.end(), [&](const auto& g) { return g->getName() == name; }),
-              grids.end());
-}
-
 }  // namespace
 
 BlockCounts stackShape(int count, const BlockCounts& block) {
@@ -134,7 +128,7 @@ MediumPtr splitStacked(const Medium& stacked) {
   BlockMoves moves{set.block, {}};
   for (const auto& [slot, e] : placementOf(stacked, set.count)) moves.destinations[slot] = {Coord(e, 0, 0)};
   MediumPtr blocks = moveBlocks(stacked, moves);
-  removeGrid(*blocks, grid_names::kExemplarStacking);
+  removeOtherGrid(*blocks, grid_names::kExemplarStacking);
   writeExemplarSet(*blocks, {set.count, set.block, ExemplarKind::Blocks, 1, set.name});
   return blocks;
 }
