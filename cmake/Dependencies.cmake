@@ -30,3 +30,7 @@ find_package(embree 3 REQUIRED)
 find_package(assimp REQUIRED)
 # Content hashes (XXH3) for the cache of reference images (optimize/reference_cache.h).
 pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
+# The checked chunk readers that replace OpenVDB 10's (io/vdb_chunk_guard.cpp) decompress with the
+# same codecs OpenVDB uses: blosc (libblosc-dev) and zlib (zlib1g-dev).
+pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
+find_package(ZLIB REQUIRED)

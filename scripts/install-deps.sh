@@ -11,6 +11,8 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev
   # maths, flags, JSON, formatting
   libeigen3-dev libcli11-dev nlohmann-json3-dev libfmt-dev
+  # the codecs of VDB files, for the checked chunk readers (io/vdb_chunk_guard.cpp)
+  libblosc-dev zlib1g-dev
   # content hashes (the reference-image cache of vdb_optimize_weights)
   libxxhash-dev
   # quadratic programming (the altered phase functions of vdb_similarity)
