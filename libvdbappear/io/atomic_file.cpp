@@ -1,5 +1,6 @@
 #include "libvdbappear/io/atomic_file.h"
 
+#include "libvdbappear/io/interrupt_cleanup.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
@@ -25,6 +26,7 @@ AtomicFile::AtomicFile(std::string target) : target_(std::move(target)) {
     if (fd >= 0) {
       close(fd);
       temporary_ = candidate;
+      cleanup_slot_ = registerInterruptCleanup(temporary_.c_str());
       return;
     }
     if (errno != EEXIST) break;
@@ -33,6 +35,7 @@ AtomicFile::AtomicFile(std::string target) : target_(std::move(target)) {
 }
 
 AtomicFile::~AtomicFile() {
+  unregisterInterruptCleanup(cleanup_slot_);
   if (!committed_) std::remove(temporary_.c_str());
 }
 
@@ -40,6 +43,8 @@ void AtomicFile::commit() {
   if (std::rename(temporary_.c_str(), target_.c_str()) != 0)
     throw MediumError(fmt::format("{}: cannot write the output file: {}", target_, std::strerror(errno)));
   committed_ = true;
+  unregisterInterruptCleanup(cleanup_slot_);
+  cleanup_slot_ = -1;
 }
 
 }  // namespace vdbappear

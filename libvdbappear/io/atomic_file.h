@@ -6,7 +6,9 @@
 namespace vdbappear {
 
 // Reserves a temporary file next to `target`; commit() renames it over `target`. If commit() is
-// never called (an exception on the way), the destructor removes the temporary file.
+// never called (an exception on the way), the destructor removes the temporary file, and if the
+// process is interrupted by SIGINT, SIGTERM or SIGHUP meanwhile, the signal handler does
+// (io/interrupt_cleanup.h).
 class AtomicFile {
  public:
   explicit AtomicFile(std::string target);  // throws MediumError if the folder is not writable
@@ -21,6 +23,7 @@ class AtomicFile {
   std::string target_;
   std::string temporary_;
   bool committed_ = false;
+  int cleanup_slot_ = -1;
 };
 
 }  // namespace vdbappear

@@ -14,9 +14,12 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace vdbappear {
 namespace {
@@ -326,6 +329,32 @@ TEST(AtomicFile, FailedWriteLeavesTheOldFileAndNoLitter) {
   in >> content;
   EXPECT_EQ(content, "old");
   EXPECT_THROW(AtomicFile(dir.path("missing/out.vdb")), MediumError);
+}
+
+// A process interrupted in the middle of a write leaves the old file and no temporary: the handler
+// that AtomicFile installs removes it, then the process ends by the signal as before.
+TEST(AtomicFile, InterruptedWriteLeavesTheOldFileAndNoLitter) {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    TempDir dir;
+    const std::string target = dir.path("out.vdb");
+    std::ofstream(target) << "old";
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      AtomicFile output(target);
+      std::ofstream(output.temporaryPath()) << "partial";
+      raise(signal_number);
+      _exit(0);  // not reached: the handler re-raises with the default action
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal_number) << "signal " << signal_number;
+    EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.vdb"}) << "signal " << signal_number;
+    std::ifstream in(target);
+    std::string content;
+    in >> content;
+    EXPECT_EQ(content, "old");
+  }
 }
 
 TEST(MediumIo, HistoryLineQuotesArgumentsForTheShell) {
