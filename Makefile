@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test demo bench bench-render lobes similarity lightgrid optimize modularity clean
+.PHONY: all deps configure build test test-sanitize demo bench bench-render lobes similarity lightgrid optimize modularity clean
 
 all: build
 
@@ -20,6 +20,16 @@ build: configure
 
 test: build
 	@ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+# The whole suite built with AddressSanitizer and UndefinedBehaviorSanitizer (its own build folder):
+# any report fails the test that triggered it (docs/reliability.md).
+SANITIZE_DIR ?= build-sanitize
+SANITIZER_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+test-sanitize: deps
+	@cmake -S . -B $(SANITIZE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DVDBAPPEAR_SANITIZE=address,undefined >/dev/null
+	@cmake --build $(SANITIZE_DIR) -j $(JOBS)
+	@$(SANITIZER_ENV) ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS)
 
 demo: build
 	@scripts/demo.sh $(BUILD_DIR)
@@ -52,6 +62,6 @@ modularity: build
 	@scripts/modularity_experiment.py --build $(BUILD_DIR)
 
 clean:
-	rm -rf $(BUILD_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out media
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out media
 
 include scripts/media.mk

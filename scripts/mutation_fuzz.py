@@ -162,6 +162,8 @@ def run_case(bin_dir, target, data, kind, seed_name, work, args):
                            preexec_fn=limit_memory(args.memory_gb))
     except subprocess.TimeoutExpired:
         return cmd, f"hang: no exit within {args.timeout} s"
+    except OSError as e:  # the tool itself is missing or being rebuilt: nothing to learn from this run
+        sys.exit(f"fuzz: cannot run {cmd[0]}: {e}")
     seconds = time.monotonic() - start
     stderr = p.stderr.decode(errors="replace")
     if p.returncode < 0:
@@ -188,6 +190,12 @@ def run_case(bin_dir, target, data, kind, seed_name, work, args):
     return (cmd, None) if seconds < args.timeout else (cmd, "slow")
 
 
+def write_report(out, args, done, seconds, tally, findings):
+    report = {"runs_done": done, "runs_asked": args.runs, "seconds": round(seconds, 1), "seed": args.seed,
+              "timeout_s": args.timeout, "memory_gb": args.memory_gb, "targets": tally, "findings": findings}
+    (out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--build", default="build")
@@ -206,6 +214,7 @@ def main():
     targets = args.targets.split(",")
     tally = {t: {"runs": 0, "refused": 0, "succeeded": 0, "findings": 0} for t in targets}
     findings = []
+    start = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="vdbappear-fuzz-") as tmp:
         work = pathlib.Path(tmp) / "case"
         for target in targets:  # the unmutated seeds must succeed, or the fuzzer tests nothing
@@ -237,11 +246,10 @@ def main():
                 t["refused"] += 1
             if sys.stderr.isatty():
                 print(f"\rfuzz: {i + 1}/{args.runs}, {len(findings)} findings", end="", file=sys.stderr)
+            if (i + 1) % 50 == 0 or i + 1 == args.runs:  # a report that survives an interrupted run
+                write_report(out, args, i + 1, time.monotonic() - start, tally, findings)
     if sys.stderr.isatty():
         print(file=sys.stderr)
-    report = {"runs": args.runs, "seed": args.seed, "timeout_s": args.timeout, "memory_gb": args.memory_gb,
-              "targets": tally, "findings": findings}
-    (out / "report.json").write_text(json.dumps(report, indent=1) + "\n")
     lines = ["| target | runs | refused | succeeded | findings |", "|---|---:|---:|---:|---:|"]
     for name, t in tally.items():
         lines.append(f"| {name} | {t['runs']} | {t['refused']} | {t['succeeded']} | {t['findings']} |")
