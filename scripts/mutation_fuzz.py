@@ -142,8 +142,9 @@ def limit_memory(gb):
     return apply
 
 
-def run_case(bin_dir, target, data, kind, seed_name, work, args):
-    """Runs one input; returns None when the promise held, else a description of what went wrong."""
+def run_case(bin_dir, target, data, kind, work, args):
+    """Runs one input; returns the command, None when the promise held (else what went wrong), and
+    whether the tool succeeded (exit 0) rather than refused."""
     _, _, template = TARGETS[target]
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
@@ -156,38 +157,37 @@ def run_case(bin_dir, target, data, kind, seed_name, work, args):
     cmd = [str(bin_dir / template[0])] + [str(inp) if a == "IN" else a.replace("OUT", str(out_base))
                                           for a in template[1:]]
     outputs = [pathlib.Path(a) for a in cmd if a.startswith(str(out_base))]
-    start = time.monotonic()
     try:
         p = subprocess.run(cmd, cwd=work, capture_output=True, timeout=args.timeout,
                            preexec_fn=limit_memory(args.memory_gb))
     except subprocess.TimeoutExpired:
-        return cmd, f"hang: no exit within {args.timeout} s"
+        return cmd, f"hang: no exit within {args.timeout} s", False
     except OSError as e:  # the tool itself is missing or being rebuilt: nothing to learn from this run
         sys.exit(f"fuzz: cannot run {cmd[0]}: {e}")
-    seconds = time.monotonic() - start
     stderr = p.stderr.decode(errors="replace")
-    if p.returncode < 0:
-        return cmd, f"signal {signal.Signals(-p.returncode).name}: {stderr.strip()[-400:]}"
+    problem = judge(p.returncode, stderr, inp, data, outputs, work)
+    return cmd, problem, p.returncode == 0
+
+
+def judge(returncode, stderr, inp, data, outputs, work):
+    """What broke the promise in one finished run, or None."""
+    if returncode < 0:
+        return f"signal {signal.Signals(-returncode).name}: {stderr.strip()[-400:]}"
     if inp.read_bytes() != data:
-        return cmd, "the input file was modified"
-    if p.returncode != 0:
+        return "the input file was modified"
+    if returncode != 0:
         if any(o.exists() for o in outputs):
-            return cmd, f"exit {p.returncode} but an output file exists"
+            return f"exit {returncode} but an output file exists"
         lines = [l for l in stderr.splitlines() if l.strip()]
         if not lines:
-            return cmd, f"exit {p.returncode} with nothing on stderr"
+            return f"exit {returncode} with nothing on stderr"
         if any("terminate called" in l or "Aborted" in l or "AddressSanitizer" in l or "runtime error" in l
                for l in lines):
-            return cmd, f"exit {p.returncode}: {stderr.strip()[-400:]}"
-    else:
-        missing = [o for o in outputs if not o.exists()]
-        if missing:
-            return cmd, "exit 0 without an output file"
-    leftovers = [f.name for f in work.iterdir() if f.name not in {inp.name, "medium.vdb"} and
-                 not any(f == o for o in outputs)]
-    if leftovers:
-        return cmd, f"files left behind: {leftovers}"
-    return (cmd, None) if seconds < args.timeout else (cmd, "slow")
+            return f"exit {returncode}: {stderr.strip()[-400:]}"
+    elif not all(o.exists() for o in outputs):
+        return "exit 0 without an output file"
+    leftovers = [f.name for f in work.iterdir() if f.name not in {inp.name, "medium.vdb"} and f not in outputs]
+    return f"files left behind: {leftovers}" if leftovers else None
 
 
 def write_report(out, args, done, seconds, tally, findings):
@@ -217,18 +217,18 @@ def main():
     start = time.monotonic()
     with tempfile.TemporaryDirectory(prefix="vdbappear-fuzz-") as tmp:
         work = pathlib.Path(tmp) / "case"
+        seeds = {target: seeds_for(TARGETS[target][0], TARGETS[target][1]) for target in targets}
         for target in targets:  # the unmutated seeds must succeed, or the fuzzer tests nothing
-            kind, names, _ = TARGETS[target]
-            for seed_name, seed_data in seeds_for(kind, names):
-                cmd, problem = run_case(bin_dir, target, seed_data, kind, seed_name, work, args)
-                if problem or not any(pathlib.Path(c).exists() for c in cmd if "/out" in c):
-                    sys.exit(f"fuzz: the seed {seed_name} fails {target}: {problem or 'no output'}: {' '.join(cmd)}")
+            for seed_name, seed_data in seeds[target]:
+                cmd, problem, succeeded = run_case(bin_dir, target, seed_data, TARGETS[target][0], work, args)
+                if problem or not succeeded:
+                    sys.exit(f"fuzz: the seed {seed_name} fails {target}: {problem or 'refused'}: {' '.join(cmd)}")
         for i in range(args.runs):
             target = targets[i % len(targets)]
-            kind, names, _ = TARGETS[target]
-            seed_name, seed_data = rng.choice(seeds_for(kind, names))
+            kind = TARGETS[target][0]
+            seed_name, seed_data = rng.choice(seeds[target])
             data = mutate(seed_data, rng) if kind == "medium" else mutate_json(seed_data.decode(), rng)
-            cmd, problem = run_case(bin_dir, target, data, kind, seed_name, work, args)
+            cmd, problem, succeeded = run_case(bin_dir, target, data, kind, work, args)
             t = tally[target]
             t["runs"] += 1
             if problem:
@@ -240,7 +240,7 @@ def main():
                 (findings_dir / (name + ".txt")).write_text(json.dumps(record, indent=1) + "\n")
                 findings.append(record)
                 print(f"fuzz: run {i} {target} ({seed_name}): {problem[:200]}", file=sys.stderr)
-            elif any(pathlib.Path(c).exists() for c in cmd if "/out" in c):
+            elif succeeded:
                 t["succeeded"] += 1
             else:
                 t["refused"] += 1

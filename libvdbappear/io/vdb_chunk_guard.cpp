@@ -30,69 +30,65 @@ namespace io {
 
 namespace {
 
-Int64 readChunkSize(std::istream& is, const char* codec) {
+// The compressed bytes of one chunk, empty when there is nothing to decompress.
+struct CompressedChunk {
+  std::unique_ptr<char[]> bytes;
+  Int64 size = 0;
+};
+
+// Reads a chunk's stated size and then: an uncompressed chunk (stated size -size <= 0) of exactly
+// numBytes, into data; a skipped chunk (data null), by seeking; a compressed chunk of at most
+// max_size bytes, returned whole. Every size is checked before anything is read or allocated.
+CompressedChunk readChunk(std::istream& is, char* data, size_t numBytes, const char* codec, size_t max_size) {
+  CompressedChunk chunk;
   Int64 size = 0;
   is.read(reinterpret_cast<char*>(&size), 8);
   if (!is.good()) OPENVDB_THROW(RuntimeError, "Stream failure reading the size of a " << codec << " chunk");
-  return size;
-}
-
-// An uncompressed chunk (stated size -size <= 0): exactly the expected bytes, read or skipped.
-void readRawChunk(std::istream& is, char* data, size_t numBytes, Int64 size) {
-  if (size == std::numeric_limits<Int64>::min() || size_t(-size) != numBytes)
+  if (size <= 0 && (size == std::numeric_limits<Int64>::min() || size_t(-size) != numBytes))
     OPENVDB_THROW(RuntimeError, "Expected to read a " << numBytes << "-byte uncompressed chunk, got a " << -size
                                                       << "-byte chunk");
   if (data == nullptr) {
-    is.seekg(-size, std::ios_base::cur);
-    return;
+    is.seekg(size <= 0 ? -size : size, std::ios_base::cur);
+    return chunk;
   }
-  is.read(data, -size);
-  if (is.gcount() != -size) OPENVDB_THROW(RuntimeError, "Truncated " << numBytes << "-byte chunk");
-}
-
-// The compressed bytes of a chunk whose stated size is at most max_size.
-std::unique_ptr<char[]> readCompressed(std::istream& is, Int64 size, size_t max_size, size_t numBytes) {
+  if (size <= 0) {
+    is.read(data, -size);
+    if (is.gcount() != -size) OPENVDB_THROW(RuntimeError, "Truncated " << numBytes << "-byte chunk");
+    return chunk;
+  }
   if (size_t(size) > max_size)
     OPENVDB_THROW(RuntimeError, "A compressed chunk of " << size << " bytes cannot hold " << numBytes << " bytes");
-  std::unique_ptr<char[]> compressed(new char[size_t(size)]);
-  is.read(compressed.get(), size);
+  chunk.bytes.reset(new char[size_t(size)]);
+  chunk.size = size;
+  is.read(chunk.bytes.get(), size);
   if (is.gcount() != size) OPENVDB_THROW(RuntimeError, "Truncated compressed chunk of " << size << " bytes");
-  return compressed;
+  return chunk;
 }
 
 }  // namespace
 
 void bloscFromStream(std::istream& is, char* data, size_t numBytes) {
-  const Int64 size = readChunkSize(is, "blosc");
-  if (size <= 0) return readRawChunk(is, data, numBytes, size);
-  if (data == nullptr) {
-    is.seekg(size, std::ios_base::cur);
-    return;
-  }
   // bloscToStream writes a compressed chunk only when it is at most the input plus blosc's overhead.
-  const std::unique_ptr<char[]> compressed = readCompressed(is, size, numBytes + BLOSC_MAX_OVERHEAD, numBytes);
+  const CompressedChunk chunk = readChunk(is, data, numBytes, "blosc", numBytes + BLOSC_MAX_OVERHEAD);
+  if (!chunk.bytes) return;
+  if (chunk.size < BLOSC_MIN_HEADER_LENGTH)
+    OPENVDB_THROW(RuntimeError, "Blosc chunk of " << chunk.size << " bytes has no header");
   size_t nbytes = 0, cbytes = 0, blocksize = 0;
-  if (size < BLOSC_MIN_HEADER_LENGTH) OPENVDB_THROW(RuntimeError, "Blosc chunk of " << size << " bytes has no header");
-  blosc_cbuffer_sizes(compressed.get(), &nbytes, &cbytes, &blocksize);
-  if (nbytes != numBytes || cbytes > size_t(size))
+  blosc_cbuffer_sizes(chunk.bytes.get(), &nbytes, &cbytes, &blocksize);
+  if (nbytes != numBytes || cbytes > size_t(chunk.size))
     OPENVDB_THROW(RuntimeError, "Blosc chunk header states " << nbytes << " bytes in " << cbytes << ", expected "
-                                                             << numBytes << " bytes in at most " << size);
-  const int unpacked = blosc_decompress_ctx(compressed.get(), data, numBytes, /*numinternalthreads=*/1);
+                                                             << numBytes << " bytes in at most " << chunk.size);
+  const int unpacked = blosc_decompress_ctx(chunk.bytes.get(), data, numBytes, /*numinternalthreads=*/1);
   if (unpacked != Int64(numBytes))
     OPENVDB_THROW(RuntimeError, "Expected to decompress " << numBytes << " bytes, got " << unpacked << " bytes");
 }
 
 void unzipFromStream(std::istream& is, char* data, size_t numBytes) {
-  const Int64 size = readChunkSize(is, "zip");
-  if (size <= 0) return readRawChunk(is, data, numBytes, size);
-  if (data == nullptr) {
-    is.seekg(size, std::ios_base::cur);
-    return;
-  }
-  const std::unique_ptr<char[]> compressed = readCompressed(is, size, compressBound(uLong(numBytes)), numBytes);
+  const CompressedChunk chunk = readChunk(is, data, numBytes, "zip", compressBound(uLong(numBytes)));
+  if (!chunk.bytes) return;
   uLongf unpacked = uLongf(numBytes);
   const int status = uncompress(reinterpret_cast<Bytef*>(data), &unpacked,
-                                reinterpret_cast<const Bytef*>(compressed.get()), uLong(size));
+                                reinterpret_cast<const Bytef*>(chunk.bytes.get()), uLong(chunk.size));
   if (status != Z_OK || unpacked != numBytes)
     OPENVDB_THROW(RuntimeError, "Expected to decompress " << numBytes << " bytes, got " << unpacked << " bytes");
 }
