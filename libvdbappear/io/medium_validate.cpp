@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/leaf_values.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/resource_limits.h"
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/util/error.h"
 
@@ -243,10 +244,22 @@ void checkExemplarLayout(const Medium& medium, const std::string& source) {
   }
 }
 
+// Active tiles are voxelised where per-voxel values are needed: refuse a claim beyond the limit
+// before that allocates (io/resource_limits.h).
+void checkTileVoxels(const openvdb::GridBase& grid, const std::string& source) {
+  const openvdb::Index64 tile_voxels = grid.activeVoxelCount() - grid.baseTree().activeLeafVoxelCount();
+  const std::uint64_t limit = maxTileVoxels();
+  if (tile_voxels > limit)
+    fail(source, grid.getName(),
+         fmt::format("its active tiles cover {} voxels, more than the limit of {} (VDBAPPEAR_MAX_TILE_VOXELS raises it)",
+                     tile_voxels, limit));
+}
+
 }  // namespace
 
 void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
   checkValueType(grid, source);
+  checkTileVoxels(grid, source);
   const std::string& name = grid.getName();
   if (name == grid_names::kDensity) {
     checkDensity(static_cast<const openvdb::FloatGrid&>(grid), source);

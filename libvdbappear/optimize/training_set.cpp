@@ -113,9 +113,9 @@ nlohmann::json sh(int l, int m, double scale) { return {{"type", "sh"}, {"l", l}
 // (math/spherical_harmonics.h).
 void addBand1(std::vector<TrainingLighting>& out) {
   const double c = std::sqrt(3 / (4 * kPi));
-  out.push_back({"sky+x", {sky(1), sh(1, 1, -1 / c)}});
-  out.push_back({"sky+y", {sky(1), sh(1, -1, -1 / c)}});
-  out.push_back({"sky+z", {sky(1), sh(1, 0, 1 / c)}});
+  out.push_back({"sky+x", nlohmann::json::array({sky(1), sh(1, 1, -1 / c)})});
+  out.push_back({"sky+y", nlohmann::json::array({sky(1), sh(1, -1, -1 / c)})});
+  out.push_back({"sky+z", nlohmann::json::array({sky(1), sh(1, 0, 1 / c)})});
 }
 
 // 1 + Y_2m / max|Y_2m|: max |Y_2,0| = sqrt(5 / 4 pi) (at the poles), max |Y_2,m| = sqrt(15 / 16 pi)
@@ -123,20 +123,20 @@ void addBand1(std::vector<TrainingLighting>& out) {
 void addBand2(std::vector<TrainingLighting>& out) {
   for (int m = -2; m <= 2; ++m) {
     const double largest = m == 0 ? std::sqrt(5 / (4 * kPi)) : std::sqrt(15 / (16 * kPi));
-    out.push_back({"sky+Y2," + std::to_string(m), {sky(1), sh(2, m, 1 / largest)}});
+    out.push_back({"sky+Y2," + std::to_string(m), nlohmann::json::array({sky(1), sh(2, m, 1 / largest)})});
   }
 }
 
 // Five suns from the upper hemisphere over a dim sky: one from the zenith and four from the box's
 // diagonal azimuths (45, 135, 225, 315 degrees) at an elevation of 35 degrees.
 void addSuns(std::vector<TrainingLighting>& out) {
-  out.push_back({"sun+z", {sky(0.1), {{"type", "sun"}, {"direction", {0.0, 0.0, -1.0}}, {"strength", 3.0}}}});
+  out.push_back({"sun+z", nlohmann::json::array({sky(0.1), {{"type", "sun"}, {"direction", {0.0, 0.0, -1.0}}, {"strength", 3.0}}})});
   const double elevation = 35 * kPi / 180;
   for (int i = 0; i < 4; ++i) {
     const double azimuth = (45 + 90 * i) * kPi / 180;
     const Vec3 toward(std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
     out.push_back({"sun" + std::to_string(45 + 90 * i),
-                   {sky(0.1), {{"type", "sun"}, {"direction", {-toward.x(), -toward.y(), -toward.z()}}, {"strength", 3.0}}}});
+                   nlohmann::json::array({sky(0.1), {{"type", "sun"}, {"direction", {-toward.x(), -toward.y(), -toward.z()}}, {"strength", 3.0}}})});
   }
 }
 
@@ -154,12 +154,12 @@ std::vector<TrainingLighting> trainingLightings(const std::string& kinds) {
     }
     any = true;
     if (kind == "sh0") {
-      out.push_back({"sky", {sky(1)}});
+      out.push_back({"sky", nlohmann::json::array({sky(1)})});
     } else if (kind == "sh1") {
-      out.push_back({"sky", {sky(1)}});
+      out.push_back({"sky", nlohmann::json::array({sky(1)})});
       addBand1(out);
     } else if (kind == "sh2") {
-      out.push_back({"sky", {sky(1)}});
+      out.push_back({"sky", nlohmann::json::array({sky(1)})});
       addBand1(out);
       addBand2(out);
     } else if (kind == "sun") {

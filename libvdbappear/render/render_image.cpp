@@ -1,9 +1,11 @@
 #include "libvdbappear/render/render_image.h"
 
+#include "libvdbappear/io/resource_limits.h"
 #include "libvdbappear/render/path_gradients.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -33,6 +35,14 @@ class Film {
       : width_(width), clusters_(clusters), parameters_(gradient_parameters), pixels_(std::size_t(width) * height),
         coverage_(std::size_t(width) * height * clusters, 0),
         gradient_sums_(std::size_t(width) * height * gradient_parameters, Rgb::Zero()) {}
+
+  // What a render holds per pixel: the film's sums, and the result they resolve to twice over (the
+  // result, and the copy an output writer makes of it).
+  static std::uint64_t bytesPerPixel(int clusters, int gradient_parameters) {
+    const std::uint64_t film = sizeof(PixelSums) + sizeof(std::uint32_t) * clusters + sizeof(Rgb) * gradient_parameters;
+    const std::uint64_t result = sizeof(float) * (3 + 3 + 1 + clusters + 3 * std::uint64_t(gradient_parameters));
+    return film + 2 * result;
+  }
 
   void add(int x, int y, const PathSample& s, const PathGradients* gradients) {
     const std::size_t pixel = std::size_t(y) * width_ + x;
@@ -85,11 +95,28 @@ std::pair<int, int> gradientShape(const RenderScene& scene, const RenderSettings
   return {scene.medium->clusterCount(), scene.medium->lobeCount()};
 }
 
+// Refuses, before anything is allocated, a render that would hold more than the limit of
+// io/resource_limits.h (the machine's memory unless set).
+void checkRenderMemory(const RenderSettings& settings, int clusters, int gradient_parameters) {
+  const std::uint64_t bytes =
+      std::uint64_t(settings.width) * std::uint64_t(settings.height) * Film::bytesPerPixel(clusters, gradient_parameters);
+  const std::uint64_t limit = maxRenderBytes();
+  if (bytes <= limit) return;
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  throw std::invalid_argument(fmt::format(
+      "a {}x{} render{} needs about {:.2f} GiB, more than the limit of {:.2f} GiB (the machine's memory; "
+      "VDBAPPEAR_MAX_RENDER_BYTES sets another)",
+      settings.width, settings.height,
+      gradient_parameters > 0 ? fmt::format(" with {} gradient images", gradient_parameters) : std::string(),
+      double(bytes) / kGiB, double(limit) / kGiB));
+}
+
 // Samples [first, last) of every pixel.
 void renderPass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first,
                 int last, Film& film, tbb::enumerable_thread_specific<ThreadState>& threads, ProgressBar* progress) {
   const VolumePathTracer tracer(scene, settings.path);
-  const auto [gradient_clusters, gradient_lobes] = gradientShape(scene, settings);
+  const std::pair<int, int> gradient_shape = gradientShape(scene, settings);  // lambdas cannot capture bindings (C++17)
+  const int gradient_clusters = gradient_shape.first, gradient_lobes = gradient_shape.second;
   tbb::parallel_for(tbb::blocked_range2d<int>(0, settings.height, 8, 0, settings.width, 8), [&](const auto& tile) {
     ThreadState& state = threads.local();
     if (scene.medium && !state.lookup) state.lookup = scene.medium->lookup();
@@ -117,6 +144,7 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
   const Stopwatch clock;
   const int clusters = settings.cluster_coverage && scene.medium ? scene.medium->clusterCount() : 0;
   const auto [gradient_clusters, gradient_lobes] = gradientShape(scene, settings);
+  checkRenderMemory(settings, clusters, gradient_clusters * gradient_lobes);
   Film film(settings.width, settings.height, clusters, gradient_clusters * gradient_lobes);
   tbb::enumerable_thread_specific<ThreadState> threads;
   const std::uint64_t pixels = std::uint64_t(settings.width) * settings.height;

@@ -70,7 +70,8 @@ void expectConsistent(SampleFn&& sample, PdfFn&& pdf, const std::function<double
 }
 
 TEST(EnvironmentLight, SphericalHarmonicSamplingMatchesItsPdfAndKeepsTheSign) {
-  for (auto [l, m] : {std::pair{0, 0}, {1, -1}, {2, 1}, {3, -2}}) {
+  for (const std::pair<int, int> lm : {std::pair{0, 0}, {1, -1}, {2, 1}, {3, -2}}) {
+    const int l = lm.first, m = lm.second;  // lambdas cannot capture bindings (C++17)
     const auto light = EnvironmentLight::sphericalHarmonic(l, m, 1.0);
     const auto sample = [&](const Point2& u) { return light->sample(Vec3::Zero(), u).wi; };
     const auto pdf = [&](const Vec3& w) { return light->pdf(Vec3::Zero(), w); };

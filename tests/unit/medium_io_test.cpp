@@ -8,6 +8,7 @@
 #include "libvdbappear/util/error.h"
 
 #include "support/medium_testing.h"
+#include "support/scoped_environment.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -267,6 +268,37 @@ TEST(MediumIo, BadTileValuesAndBackgroundsAreReported) {
   metadata.insertMeta("hg_g", openvdb::Int32Metadata(0));
   test::writeRawVdb(dir.path("meta.vdb"), test::copyGrids(*medium), metadata);
   EXPECT_NE(readError(dir.path("meta.vdb")).find("metadata 'hg_g' is not a number"), std::string::npos);
+}
+
+// A few bytes of tiles in a file claim billions of voxels, which validation would voxelise: refused
+// before that, under a limit the environment raises (io/resource_limits.h).
+TEST(MediumIo, TilesBeyondTheVoxelLimitAreRefusedBeforeTheyAreVoxelised) {
+  TempDir dir;
+  MediumPtr medium = smallMedium();
+  medium->density->tree().addTile(3, Coord(4096 * 4, 0, 0), 1.0f, true);  // a root tile: 4096^3 voxels
+  test::writeRawVdb(dir.path("huge.vdb"), test::copyGrids(*medium));
+  EXPECT_NE(readError(dir.path("huge.vdb"))
+                .find("huge.vdb: grid 'density': its active tiles cover 68719476736 voxels, more than the limit of "
+                      "2147483648 (VDBAPPEAR_MAX_TILE_VOXELS raises it)"),
+            std::string::npos)
+      << readError(dir.path("huge.vdb"));
+
+  medium = smallMedium();
+  medium->density->tree().addTile(2, Coord(1024, 0, 0), 1.0f, true);  // 128^3 = 2097152 voxels
+  test::writeRawVdb(dir.path("tile.vdb"), {medium->density});  // density alone: valid wherever it is dense
+  EXPECT_EQ(readError(dir.path("tile.vdb")), "");
+  {
+    const test::ScopedEnvironment limit("VDBAPPEAR_MAX_TILE_VOXELS", "1000000");
+    EXPECT_NE(readError(dir.path("tile.vdb")).find("its active tiles cover 2097152 voxels, more than the limit of 1000000"),
+              std::string::npos)
+        << readError(dir.path("tile.vdb"));
+  }
+  {
+    const test::ScopedEnvironment nonsense("VDBAPPEAR_MAX_TILE_VOXELS", "lots");
+    EXPECT_NE(readError(dir.path("tile.vdb")).find("VDBAPPEAR_MAX_TILE_VOXELS='lots': expected a positive integer"),
+              std::string::npos)
+        << readError(dir.path("tile.vdb"));
+  }
 }
 
 TEST(MediumIo, UnnamedGridsAreRejected) {

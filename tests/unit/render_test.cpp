@@ -11,6 +11,7 @@
 #include "libvdbappear/similarity/legendre_moments.h"
 
 #include "support/medium_testing.h"
+#include "support/scoped_environment.h"
 #include "support/test_random.h"
 
 #include <gtest/gtest.h>
@@ -393,6 +394,25 @@ TEST(Surfaces, SunlitGroundIsAlbedoTimesIrradianceOverPi) {
     EXPECT_NEAR(r.mean[i], 0.5 * 3 / kPi, 1e-6);
     EXPECT_NEAR(r.mean[i + 1], 0.25 * 3 / kPi, 1e-6);
     EXPECT_NEAR(r.mean[i + 2], 1.0 * 3 / kPi, 1e-6);
+  }
+}
+
+// A render that would hold more than the limit (the machine's memory unless set) is refused before
+// its film is allocated, with the size it would need (io/resource_limits.h).
+TEST(ResourceLimits, RenderBeyondTheMemoryLimitIsRefusedBeforeAllocation) {
+  SceneDescription d;
+  d.lights = json::array({{{"type", "sun"}, {"direction", {0, 0, -1}}, {"strength", 3.0}}});
+  d.ground = GroundDescription{0.0, Rgb::Constant(0.5)};
+  const RenderScene scene = buildRenderScene(d, nullptr, {});
+  const CameraPose pose{Vec3(0, 0, 5), Vec3(0, 0, 0), Vec3(0, 1, 0), 20};
+  const test::ScopedEnvironment limit("VDBAPPEAR_MAX_RENDER_BYTES", "1000000");
+  EXPECT_NO_THROW(renderImage(scene, PinholeCamera(pose, 64, 64), small(64, 1)));  // 4096 pixels: under 1 MB
+  try {
+    renderImage(scene, PinholeCamera(pose, 256, 256), small(256, 1));
+    FAIL() << "a 256x256 render was not refused under a 1 MB limit";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("a 256x256 render needs about"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("VDBAPPEAR_MAX_RENDER_BYTES"), std::string::npos) << e.what();
   }
 }
 
