@@ -18,12 +18,14 @@ namespace {
 // instead of a truncated file being renamed into place.
 class CheckedFileWriter : public openvdb::io::Archive {
  public:
-  void writeFile(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    if (!file) throw MediumError(fmt::format("{}: cannot open for writing", path));
+  // Writes `temporary`; errors name `target`, the file the user asked for.
+  void writeFile(const std::string& temporary, const std::string& target, const openvdb::GridCPtrVec& grids,
+                 const openvdb::MetaMap& metadata) const {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    if (!file) throw MediumError(fmt::format("{}: cannot open a temporary file beside it for writing", target));
     Archive::write(file, grids, /*seekable=*/true, metadata);
     file.close();
-    if (!file) throw MediumError(fmt::format("{}: write failed (disk full?)", path));
+    if (!file) throw MediumError(fmt::format("{}: write failed (disk full?)", target));
   }
 };
 
@@ -42,7 +44,7 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const 
   }
   AtomicFile output(path);
   try {
-    CheckedFileWriter().writeFile(output.temporaryPath(), grids, metadata);
+    CheckedFileWriter().writeFile(output.temporaryPath(), path, grids, metadata);
   } catch (const MediumError&) {
     throw;
   } catch (const std::exception& e) {

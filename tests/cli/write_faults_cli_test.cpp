@@ -1,0 +1,81 @@
+// Faults on write (docs/reliability.md §4): a disk that fills up in the middle of a write, a stdout
+// that cannot take the stream, and two processes writing the same output at once. Each ends with
+// the previous file intact or the new one whole, never a partial file, and no temporary left.
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+
+#include "cli/run_command.h"
+#include "support/medium_testing.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::readFileBytes;
+using test::runCommand;
+using test::TempDir;
+
+const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
+const std::string kRender = quote(VDB_RENDER);
+
+// A full disk, as the tool sees it: the shell's file-size limit (8 KiB) makes every write past it
+// fail with EFBIG, with SIGXFSZ ignored (a disk that fills up fails with ENOSPC the same way).
+std::string onAFullDisk(const std::string& command) { return "ulimit -f 8; trap '' XFSZ; " + command; }
+
+int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
+
+TEST(WriteFaults, FullDiskLeavesThePreviousMediumAndNoTemporary) {
+  TempDir dir;
+  const std::string out = dir.path("out.vdb");
+  std::ofstream(out) << "previous result";
+  const auto r = runCommand(onAFullDisk(kMakeMedium + " random --res 40 -o " + quote(out)));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(readFileBytes(out), "previous result");
+  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.vdb"});
+}
+
+TEST(WriteFaults, FullDiskLeavesThePreviousImageAndNoTemporary) {
+  TempDir dir;
+  const std::string out = dir.path("out.exr");
+  std::ofstream(out) << "previous result";
+  const auto r = runCommand(onAFullDisk(kRender + " --env 1 --ground --camera-pos 0,-3,2 --camera-target 0,0,0 --res 64 --spp 1 -o " + quote(out)));
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_EQ(readFileBytes(out), "previous result");
+  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.exr"});
+}
+
+TEST(WriteFaults, StdoutThatCannotTakeTheStreamIsAnError) {
+  const auto r = runCommand(kMakeMedium + " random --res 40 -o - > /dev/full");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("stdout"), std::string::npos) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+}
+
+// Two writers of one output: each renames its own whole temporary, so the file is one of the two.
+TEST(WriteFaults, TwoWritersOfOneOutputLeaveOneWholeFile) {
+  TempDir dir;
+  const std::string out = dir.path("out.vdb");
+  const std::string make = kMakeMedium + " random --res 48 -o " + quote(out) + " --seed ";
+  const auto r = runCommand(make + "1 & " + make + "2 & wait");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.vdb"});
+  const MediumPtr written = readMedium(out);
+  const MediumPtr one = test::randomMedium(48, 1), two = test::randomMedium(48, 2);
+  EXPECT_TRUE(test::gridsMatch(*one->density, *written->density, 0) ||
+              test::gridsMatch(*two->density, *written->density, 0));
+}
+
+}  // namespace
+}  // namespace vdbappear
