@@ -23,6 +23,8 @@ packages=(
   libembree-dev libassimp-dev
   # tests
   libgtest-dev
+  # sanitizer builds and libFuzzer harnesses (make test-sanitize)
+  clang-14 libclang-rt-14-dev
   # benchmarks (bench/, run by scripts)
   libbenchmark-dev
 )

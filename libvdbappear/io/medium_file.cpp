@@ -79,18 +79,17 @@ VdbContents readVdbFile(const std::string& path) {
   return contents;
 }
 
-VdbContents readVdbStdin() {
-  if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
+VdbContents readVdbStream(std::istream& in, const std::string& source) {
   VdbContents contents;
   try {
-    openvdb::io::Stream stream(std::cin, /*delayLoad=*/false);
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
     contents = {*stream.getGrids(), stream.getMetadata()};
   } catch (const std::exception& e) {
-    throw MediumError(fmt::format("stdin: not a readable VDB stream ({})", e.what()));
+    throw MediumError(fmt::format("{}: not a readable VDB stream ({})", source, e.what()));
   }
   std::vector<std::string> names;
   for (const auto& grid : contents.grids) names.push_back(grid->getName());
-  checkGridNames(names, "stdin");
+  checkGridNames(names, source);
   return contents;
 }
 
@@ -150,14 +149,20 @@ MediumPtr toMedium(VdbContents contents, const std::string& source) {
 MediumPtr readMedium(const std::string& path) {
   openvdb::initialize();
   if (path == kStdio) {
-    VdbContents contents = readVdbStdin();
-    for (const auto& grid : contents.grids) validateGrid(*grid, "stdin");
-    MediumPtr medium = toMedium(std::move(contents), "stdin");
-    validateAcrossGrids(*medium, "stdin");
-    return medium;
+    if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
+    return readMediumStream(std::cin, "stdin");
   }
   MediumPtr medium = toMedium(readVdbFile(path), path);  // validates each grid as it is read
   validateAcrossGrids(*medium, path);
+  return medium;
+}
+
+MediumPtr readMediumStream(std::istream& in, const std::string& source) {
+  openvdb::initialize();
+  VdbContents contents = readVdbStream(in, source);
+  for (const auto& grid : contents.grids) validateGrid(*grid, source);
+  MediumPtr medium = toMedium(std::move(contents), source);
+  validateAcrossGrids(*medium, source);
   return medium;
 }
 

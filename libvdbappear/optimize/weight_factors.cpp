@@ -1,5 +1,7 @@
 #include "libvdbappear/optimize/weight_factors.h"
 
+#include "libvdbappear/util/json_int.h"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -22,11 +24,19 @@ ColourMode parseColourMode(const std::string& name) {
   throw std::invalid_argument("colour mode '" + name + "': expected grey, colour-scales or per-channel");
 }
 
-WeightFactors::WeightFactors(int clusters, int lobes, ColourMode mode)
-    : clusters_(clusters), lobes_(lobes), mode_(mode), w_(std::size_t(clusters) * lobes, Rgb::Ones()),
-      s_(clusters, Rgb::Ones()) {
+namespace {
+
+// clusters, after checking (before anything is allocated) that the shape holds a factor.
+int checkedClusters(int clusters, int lobes) {
   if (clusters < 1 || lobes < 1) throw std::invalid_argument("WeightFactors: needs at least one cluster and one lobe");
+  return clusters;
 }
+
+}  // namespace
+
+WeightFactors::WeightFactors(int clusters, int lobes, ColourMode mode)
+    : clusters_(checkedClusters(clusters, lobes)), lobes_(lobes), mode_(mode),
+      w_(std::size_t(clusters) * std::size_t(lobes), Rgb::Ones()), s_(std::size_t(clusters), Rgb::Ones()) {}
 
 LobeWeightScales WeightFactors::scales() const {
   LobeWeightScales scales(clusters_, lobes_);
@@ -151,11 +161,15 @@ nlohmann::json WeightFactors::toJson() const {
 
 WeightFactors WeightFactors::fromJson(const nlohmann::json& json) {
   try {
-    WeightFactors f(json.at("clusters").get<int>(), json.at("lobes").get<int>(),
-                    parseColourMode(json.at("mode").get<std::string>()));
+    const int clusters = intOf(json.at("clusters"), "weight_factors: clusters");
+    const int lobes = intOf(json.at("lobes"), "weight_factors: lobes");
     const nlohmann::json &w = json.at("w"), &s = json.at("s");
-    if (!w.is_array() || int(w.size()) != f.clusters_ || !s.is_array() || int(s.size()) != f.clusters_)
+    // The arrays' sizes bound the counts before the factors are allocated.
+    if (!w.is_array() || int(w.size()) != clusters || !s.is_array() || int(s.size()) != clusters)
       throw std::invalid_argument("weight_factors: 'w' and 's' need one entry per cluster");
+    if (clusters > 0 && (!w[0].is_array() || int(w[0].size()) != lobes))
+      throw std::invalid_argument("weight_factors: 'w' needs one RGB per lobe in each cluster");
+    WeightFactors f(clusters, lobes, parseColourMode(json.at("mode").get<std::string>()));
     for (int k = 0; k < f.clusters_; ++k) {
       if (!w[k].is_array() || int(w[k].size()) != f.lobes_)
         throw std::invalid_argument("weight_factors: 'w' needs one RGB per lobe in each cluster");

@@ -1,6 +1,7 @@
 #include "libvdbappear/optimize/weight_optimizer.h"
 
 #include "libvdbappear/util/hash_random.h"
+#include "libvdbappear/util/json_int.h"
 #include "libvdbappear/util/stopwatch.h"
 #include "libvdbappear/version.h"
 
@@ -133,7 +134,7 @@ nlohmann::json recordJson(const IterationRecord& r) {
 
 IterationRecord recordOf(const nlohmann::json& j) {
   IterationRecord r;
-  r.t = j.at("t").get<int>();
+  r.t = intOf(j.at("t"), "history: t");
   r.E = j.at("E").get<double>();
   r.theta = j.at("theta").get<std::vector<double>>();
   r.gradient = j.at("gradient").get<std::vector<double>>();
@@ -160,10 +161,11 @@ void WeightOptimizer::resume(const nlohmann::json& checkpoint, const nlohmann::j
   try {
     if (!checkpoint.is_object() || checkpoint.value("format", "") != kCheckpointFormat)
       throw std::invalid_argument("not a checkpoint of vdb_optimize_weights");
-    if (checkpoint.at("format_version").get<int>() != kCheckpointVersion || checkpoint.at("version").get<std::string>() != kVersion)
+    const int format_version = intOf(checkpoint.at("format_version"), "format_version");
+    if (format_version != kCheckpointVersion || checkpoint.at("version").get<std::string>() != kVersion)
       throw std::invalid_argument(fmt::format("written by vdbappear {} (checkpoint format {}), this is {} (format {})",
                                               checkpoint.at("version").get<std::string>(),
-                                              checkpoint.at("format_version").get<int>(), kVersion, kCheckpointVersion));
+                                              format_version, kVersion, kCheckpointVersion));
     if (checkpoint.at("inputs") != inputs)
       throw std::invalid_argument("made with other inputs or settings (media, training set, seed, mode or spp differ)");
     WeightFactors factors = WeightFactors::fromJson(checkpoint.at("factors"));
@@ -171,7 +173,7 @@ void WeightOptimizer::resume(const nlohmann::json& checkpoint, const nlohmann::j
       throw std::invalid_argument("its factors do not fit this medium");
     std::vector<IterationRecord> history;
     for (const nlohmann::json& r : checkpoint.at("history")) history.push_back(recordOf(r));
-    if (int(history.size()) != checkpoint.at("iteration").get<int>()) throw std::invalid_argument("its history is incomplete");
+    if (int(history.size()) != intOf(checkpoint.at("iteration"), "iteration")) throw std::invalid_argument("its history is incomplete");
     StepSizes steps = history.empty() ? StepSizes() : StepSizes::fromJson(checkpoint.at("steps"));
     GaussNewton gauss_newton_sum;
     gauss_newton_sum.H = checkpoint.at("gauss_newton_sum").at("H").get<std::vector<double>>();

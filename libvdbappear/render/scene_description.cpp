@@ -22,6 +22,17 @@ using nlohmann::json;
   throw std::runtime_error(fmt::format("{}: {}: {}", source, key, what));
 }
 
+// A string value read by `parse`, whose complaint (std::invalid_argument) gains the file and key.
+template <typename Parse>
+auto parsedString(const json& value, const std::string& source, const std::string& key, Parse parse) {
+  if (!value.is_string()) fail(source, key, "expected a string");
+  try {
+    return parse(value.get<std::string>());
+  } catch (const std::invalid_argument& e) {
+    fail(source, key, e.what());
+  }
+}
+
 Vec3 vec3Of(const json& value, const std::string& source, const std::string& key) {
   if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() || !value[2].is_number())
     fail(source, key, "expected [x, y, z]");
@@ -119,8 +130,9 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     scene->render.path.max_depth = numberOf<int>(json["max_depth"], source, "max_depth");
     if (scene->render.path.max_depth < -1) fail(source, "max_depth", "must be >= 0, or -1 for unlimited");
   }
-  if (json.contains("interp")) scene->interpolation = parseInterpolation(json["interp"].get<std::string>());
-  if (json.contains("strategy")) scene->render.path.strategy = parseLightStrategy(json["strategy"].get<std::string>());
+  if (json.contains("interp")) scene->interpolation = parsedString(json["interp"], source, "interp", parseInterpolation);
+  if (json.contains("strategy"))
+    scene->render.path.strategy = parsedString(json["strategy"], source, "strategy", parseLightStrategy);
   if (json.contains("camera")) applyCamera(json["camera"], source, scene);
   if (json.contains("lights")) {
     if (!json["lights"].is_array()) fail(source, "lights", "expected an array");
@@ -162,6 +174,8 @@ SceneDescription readSceneFile(const std::string& path) {
   try {
     applySceneJson(json, std::filesystem::path(path).parent_path().string(), path, &scene);
   } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
+  } catch (const std::invalid_argument& e) {  // a value a parser refused without knowing the file
     throw std::runtime_error(fmt::format("{}: {}", path, e.what()));
   }
   return scene;

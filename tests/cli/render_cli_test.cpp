@@ -131,7 +131,7 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   TempDir dir;
   const std::string out = dir.path("out.exr");
   const std::string truncated = dir.path("truncated.vdb"), scene = dir.path("bad.json"), typo = dir.path("typo.json"),
-                    sunless = dir.path("sunless.json");
+                    sunless = dir.path("sunless.json"), interp = dir.path("interp.json"), strategy = dir.path("strategy.json");
   {
     std::ifstream in(std::string(GOLDEN_DIR) + "/cube8.vdb", std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -139,6 +139,8 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
     std::ofstream(scene) << R"({"lights": [{"type": "laser"}]})";
     std::ofstream(typo) << R"({"sppp": 4})";
     std::ofstream(sunless) << R"({"lights": [{"type": "sun", "strength": 3}]})";
+    std::ofstream(interp) << R"({"interp": "anreest"})";  // found by the scene fuzz harness: named neither file nor key
+    std::ofstream(strategy) << R"({"strategy": "guess"})";
   }
   const std::vector<BadInput> cases{
       {"missing medium", quote(dir.path("none.vdb")), "none.vdb: no such file"},
@@ -152,6 +154,8 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"unknown light type", kCube + " --scene " + quote(scene), "unknown light type 'laser'"},
       {"unknown scene key", kCube + " --scene " + quote(typo), "sppp: unknown key"},
       {"sun without direction", kCube + " --scene " + quote(sunless), "lights[0]"},
+      {"bad interp in a scene", kCube + " --scene " + quote(interp), "interp.json: interp: interpolation 'anreest'"},
+      {"bad strategy in a scene", kCube + " --scene " + quote(strategy), "strategy.json: strategy: light strategy 'guess'"},
       {"cluster AOV without clusters", kCube + " --aov cluster", "--aov cluster needs a medium with a 'cluster' grid"},
       {"gradient AOV without lobes", kCube + " --aov dweights", "--aov dweights needs a multi-lobe medium"},
       {"unknown AOV", kCube + " --aov normals", "--aov 'normals'"},

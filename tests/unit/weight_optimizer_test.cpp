@@ -105,6 +105,22 @@ TEST(WeightFactors, ParametersNamesAndJsonRoundTrip) {
   EXPECT_THROW(WeightFactors::fromJson(bad), std::invalid_argument);
 }
 
+// Counts that do not fit the arrays, are negative, fractional or beyond int are refused as
+// std::invalid_argument before anything is allocated (found by the checkpoint fuzz harness: a float
+// out of int's range went through get<int>(), undefined behaviour).
+TEST(WeightFactors, DamagedCountsAreRefusedBeforeAllocation) {
+  const nlohmann::json good = WeightFactors(2, 2, ColourMode::kColourScales).toJson();
+  ASSERT_NO_THROW(WeightFactors::fromJson(good));
+  for (const nlohmann::json& count : {nlohmann::json(-1), nlohmann::json(2000000000), nlohmann::json(1e155),
+                                      nlohmann::json(2.5), nlohmann::json("2"), nlohmann::json(std::uint64_t(1) << 40)}) {
+    for (const char* key : {"clusters", "lobes"}) {
+      nlohmann::json bad = good;
+      bad[key] = count;
+      EXPECT_THROW(WeightFactors::fromJson(bad), std::invalid_argument) << key << " = " << count.dump();
+    }
+  }
+}
+
 TEST(WeightFactors, NormalisingColourScalesKeepsEveryLobeScale) {
   WeightFactors f = randomFactors(2, 2, ColourMode::kColourScales, 9);
   const LobeWeightScales before = f.scales();

@@ -1,0 +1,14 @@
+// libFuzzer harness: environment maps (scene lights of type env_map) through OpenImageIO, as
+// OpenEXR files. OpenImageIO and OpenEXR are not instrumented (OpenEXR is fuzzed by OSS-Fuzz).
+#include "fuzz/harnesses/fuzz_input.h"
+#include "libvdbappear/image/image_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = vdbappear::fuzz::writeInput(data, size, "sky.exr");
+  try {
+    vdbappear::readRgbImage(path);
+  } catch (const std::exception& e) {
+    vdbappear::fuzz::expectNamed(e, path);
+  }
+  return 0;
+}
