@@ -21,6 +21,7 @@ import pathlib
 import re
 import subprocess
 import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -48,8 +49,10 @@ def fuzz(name, args):
                f"-artifact_prefix={findings}/", "-print_final_stats=1", "-detect_leaks=1"]
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0", UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1",
                LSAN_OPTIONS=f"suppressions={ROOT / 'tests' / 'lsan.supp'}:print_suppressions=0")
+    start = time.monotonic()
     with open(log, "w") as stream:
         rc = subprocess.run(command, stdout=stream, stderr=subprocess.STDOUT, env=env).returncode
+    seconds = round(time.monotonic() - start)  # less than --seconds when it stopped at a finding
     executions = coverage = features = corpus_size = 0
     for line in log.read_text(errors="replace").splitlines():
         status = STATUS.match(line)
@@ -58,7 +61,7 @@ def fuzz(name, args):
         elif line.startswith("stat::number_of_executed_units:"):
             executions = int(line.split(":")[-1])
     found = sorted(p.name for p in findings.iterdir())
-    return {"harness": name, "seconds": args.seconds, "executions": executions, "corpus": corpus_size,
+    return {"harness": name, "seconds": seconds, "executions": executions, "corpus": corpus_size,
             "edges": coverage, "features": features, "findings": found, "exit": rc, "log": str(log)}
 
 
