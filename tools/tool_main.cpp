@@ -3,6 +3,7 @@
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
+#include "libvdbappear/util/error_line.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -31,7 +32,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
   try {
     return body();
   } catch (const std::exception& e) {
-    fmt::print(stderr, "{}: error: {}\n", app.get_name(), e.what());
+    fmt::print(stderr, "{}: error: {}\n", app.get_name(), errorLine(e.what()));
     return 1;
   }
 }
