@@ -32,28 +32,27 @@ std::string onAFullDisk(const std::string& command) { return "ulimit -f 8; trap 
 
 int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
-TEST(WriteFaults, FullDiskLeavesThePreviousMediumAndNoTemporary) {
+// Runs `command` with OUT replaced by the path of a file `name` that holds a previous result, on a
+// full disk: one error line naming the file, which stays as it was, and nothing else left.
+void expectFullDiskKeepsThePreviousFile(const std::string& command, const std::string& name) {
   TempDir dir;
-  const std::string out = dir.path("out.vdb");
+  const std::string out = dir.path(name);
   std::ofstream(out) << "previous result";
-  const auto r = runCommand(onAFullDisk(kMakeMedium + " random --res 40 -o " + quote(out)));
+  const auto r = runCommand(onAFullDisk(command + " -o " + quote(out)));
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
   EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_EQ(readFileBytes(out), "previous result");
-  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.vdb"});
+  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{name});
+}
+
+TEST(WriteFaults, FullDiskLeavesThePreviousMediumAndNoTemporary) {
+  expectFullDiskKeepsThePreviousFile(kMakeMedium + " random --res 40", "out.vdb");
 }
 
 TEST(WriteFaults, FullDiskLeavesThePreviousImageAndNoTemporary) {
-  TempDir dir;
-  const std::string out = dir.path("out.exr");
-  std::ofstream(out) << "previous result";
-  const auto r = runCommand(onAFullDisk(kRender + " --env 1 --ground --camera-pos 0,-3,2 --camera-target 0,0,0 --res 64 --spp 1 -o " + quote(out)));
-  EXPECT_EQ(r.status, 1) << r.err;
-  EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
-  EXPECT_EQ(lineCount(r.err), 1) << r.err;
-  EXPECT_EQ(readFileBytes(out), "previous result");
-  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.exr"});
+  expectFullDiskKeepsThePreviousFile(
+      kRender + " --env 1 --ground --camera-pos 0,-3,2 --camera-target 0,0,0 --res 64 --spp 1", "out.exr");
 }
 
 TEST(WriteFaults, StdoutThatCannotTakeTheStreamIsAnError) {

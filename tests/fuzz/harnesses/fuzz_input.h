@@ -18,4 +18,17 @@ std::string writeInput(const std::uint8_t* data, std::size_t size, const std::st
 // names the file. A message that does not is a finding: the harness aborts, libFuzzer keeps the input.
 void expectNamed(const std::exception& error, const std::string& path);
 
+// The body of a harness whose reader takes a path: writes the input to `name`, reads it with
+// read(path), and checks that what the reader throws names the file.
+template <typename Read>
+int readInputFile(const std::uint8_t* data, std::size_t size, const std::string& name, Read read) {
+  const std::string path = writeInput(data, size, name);
+  try {
+    read(path);
+  } catch (const std::exception& e) {
+    expectNamed(e, path);
+  }
+  return 0;
+}
+
 }  // namespace vdbappear::fuzz

@@ -3,11 +3,5 @@
 #include "libvdbappear/io/medium_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = vdbappear::fuzz::writeInput(data, size, "medium.vdb");
-  try {
-    vdbappear::readMedium(path);
-  } catch (const std::exception& e) {
-    vdbappear::fuzz::expectNamed(e, path);
-  }
-  return 0;
+  return vdbappear::fuzz::readInputFile(data, size, "medium.vdb", [](const std::string& path) { vdbappear::readMedium(path); });
 }

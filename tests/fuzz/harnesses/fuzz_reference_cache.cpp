@@ -5,12 +5,7 @@
 #include <filesystem>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = vdbappear::fuzz::writeInput(data, size, "key.ref");
-  const vdbappear::ReferenceCache cache(std::filesystem::path(path).parent_path().string());
-  try {
-    cache.find("key");
-  } catch (const std::exception& e) {
-    vdbappear::fuzz::expectNamed(e, path);
-  }
-  return 0;
+  return vdbappear::fuzz::readInputFile(data, size, "key.ref", [](const std::string& path) {
+    vdbappear::ReferenceCache(std::filesystem::path(path).parent_path().string()).find("key");
+  });
 }
