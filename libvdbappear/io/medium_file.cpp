@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <unistd.h>
 
 namespace vdbappear {
@@ -79,10 +80,20 @@ VdbContents readVdbFile(const std::string& path) {
   return contents;
 }
 
+// OpenVDB's header readers are checked against the bytes a stream holds only where it can seek
+// (io/vdb_record_guard.cpp), so a pipe is read whole first: the medium is held in memory anyway, at
+// many times its size in the file.
 VdbContents readVdbStream(std::istream& in, const std::string& source) {
+  std::stringstream buffered;
+  std::istream* seekable = &in;
+  if (in.tellg() < 0) {
+    buffered << in.rdbuf();
+    buffered.clear();  // an empty stream sets failbit; OpenVDB says what is wrong with it
+    seekable = &buffered;
+  }
   VdbContents contents;
   try {
-    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    openvdb::io::Stream stream(*seekable, /*delayLoad=*/false);
     contents = {*stream.getGrids(), stream.getMetadata()};
   } catch (const std::exception& e) {
     throw MediumError(fmt::format("{}: not a readable VDB stream ({})", source, e.what()));

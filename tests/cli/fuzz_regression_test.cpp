@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 
 struct Reader {
   std::string name, command;  // command with IN and OUT placeholders
+  bool from_stdin = false;     // reads IN as `-` from stdin: its errors name "stdin"
 };
 
 // The tools that read each kind of input, as scripts/mutation_fuzz.py runs them.
@@ -30,12 +31,18 @@ std::vector<Reader> readersOf(const std::string& kind) {
             {"preview", quote(VDB_PREVIEW) + " IN -o OUT.png --width 32 -j 1"},
             {"downsample", quote(VDB_SGGX_DOWNSAMPLE) + " IN OUT.vdb --factor 2 -j 1"},
             {"lobes", quote(VDB_LOBE_CLUSTER) + " IN OUT.vdb --factor 2 --lobes 2 --clusters 2 -j 1"},
-            {"similarity", quote(VDB_SIMILARITY) + " IN OUT.vdb -j 1"}};
+            {"similarity", quote(VDB_SIMILARITY) + " IN OUT.vdb -j 1"},
+            {"preview from stdin", quote(VDB_PREVIEW) + " - -o OUT.png --width 32 -j 1 < IN", true}};
   if (kind == "scene") return {{"render", quote(VDB_RENDER) + " --scene IN -o OUT.png -j 1"}};
   if (kind == "lights")
     return {{"sh_lightgrid", quote(VDB_SH_LIGHTGRID) + " --lights IN --bbox -1,-1,-1,1,1,1 --res 3 --lmax 2 -o OUT.vdb -j 1"}};
+  if (kind == "lightgrid")
+    return {{"render", quote(VDB_RENDER) + " medium.vdb -o OUT.png --res 12 --spp 2 -j 1 --env 0.5 --sh-lightgrid IN"}};
   return {};
 }
+
+// Scenes and SH light grids come with a medium (cube8.vdb of grids/golden, copied beside them).
+bool needsMedium(const std::string& kind) { return kind == "scene" || kind == "lightgrid"; }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {
   for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
@@ -56,12 +63,12 @@ TEST(FuzzRegressions, EveryToolEndsCleanlyOnEveryKeptInput) {
   for (const fs::path& input : inputs) {
     const std::string file = input.filename().string(), kind = file.substr(0, file.find('-'));
     const std::vector<Reader> readers = readersOf(kind);
-    ASSERT_FALSE(readers.empty()) << file << ": name it medium-, scene- or lights-";
+    ASSERT_FALSE(readers.empty()) << file << ": name it medium-, scene-, lights- or lightgrid-";
     for (const Reader& reader : readers) {
       TempDir dir;
       const std::string in = dir.path(file), out = dir.path("out");
       fs::copy_file(input, in);
-      if (kind == "scene") fs::copy_file(fs::path(GOLDEN_DIR) / "cube8.vdb", dir.path("medium.vdb"));
+      if (needsMedium(kind)) fs::copy_file(fs::path(GOLDEN_DIR) / "cube8.vdb", dir.path("medium.vdb"));
       const std::string command = replace(replace(reader.command, "IN", quote(in)), "OUT", quote(out));
       const auto r = runCommand("cd " + quote(dir.root().string()) + " && timeout 30 " + command);
       const std::string what = file + " through " + reader.name + ": " + r.err;
@@ -69,12 +76,12 @@ TEST(FuzzRegressions, EveryToolEndsCleanlyOnEveryKeptInput) {
       std::vector<std::string> left = test::listFiles(dir.root());
       const bool wrote = std::any_of(left.begin(), left.end(), [](const std::string& f) { return f.rfind("out.", 0) == 0; });
       if (r.status == 1) {
-        EXPECT_NE(r.err.find(in), std::string::npos) << what << ": the error names the input";
+        EXPECT_NE(r.err.find(reader.from_stdin ? "stdin" : in), std::string::npos) << what << ": the error names the input";
         EXPECT_FALSE(wrote) << what << ": no output after an error";
       } else {
         EXPECT_TRUE(wrote) << what;
       }
-      EXPECT_EQ(left.size(), std::size_t(wrote) + 1 + (kind == "scene")) << what << ": nothing else left behind";
+      EXPECT_EQ(left.size(), std::size_t(wrote) + 1 + needsMedium(kind)) << what << ": nothing else left behind";
     }
   }
 }
