@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/vdb_read_error.h"
 #include "libvdbappear/io/vdb_writer.h"
 #include "libvdbappear/util/error.h"
 
@@ -52,7 +53,7 @@ VdbContents readVdbFile(const std::string& path) {
     contents.metadata = file.getMetadata();
     for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
   } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, e.what()));
+    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
   }
   std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
   for (const auto& name : names)
@@ -68,7 +69,7 @@ VdbContents readVdbFile(const std::string& path) {
         file.open(/*delayLoad=*/false);  // no lazy loading: a truncated grid fails in readGrid, not later
         contents.grids[i] = file.readGrid(names[i]);
       } catch (const std::exception& e) {
-        throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], e.what()));
+        throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], vdbReadError(e)));
       }
       validateGrid(*contents.grids[i], path);
     } catch (...) {
@@ -92,12 +93,15 @@ VdbContents readVdbStream(std::istream& in, const std::string& source) {
     seekable = &buffered;
   }
   VdbContents contents;
+  const std::ios_base::iostate exceptions = seekable->exceptions();  // the reader sets some (vdb_record_guard.cpp)
   try {
     openvdb::io::Stream stream(*seekable, /*delayLoad=*/false);
     contents = {*stream.getGrids(), stream.getMetadata()};
   } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: not a readable VDB stream ({})", source, e.what()));
+    seekable->exceptions(exceptions);
+    throw MediumError(fmt::format("{}: not a readable VDB stream ({})", source, vdbReadError(e)));
   }
+  seekable->exceptions(exceptions);
   std::vector<std::string> names;
   for (const auto& grid : contents.grids) names.push_back(grid->getName());
   checkGridNames(names, source);

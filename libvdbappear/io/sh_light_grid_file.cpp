@@ -1,4 +1,5 @@
 #include "libvdbappear/io/sh_light_grid_file.h"
+#include "libvdbappear/io/vdb_read_error.h"
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/vdb_writer.h"
@@ -84,7 +85,7 @@ std::shared_ptr<const ShGridLookup> readShLightGrid(const std::string& path) {
     grids = file.getGrids();
     metadata = file.getMetadata();
   } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, e.what()));
+    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
   }
   const auto int_meta = [&](const char* name, std::optional<int> fallback) {
     const auto meta = metadata->getMetadata<openvdb::Int32Metadata>(name);

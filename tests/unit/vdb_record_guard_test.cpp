@@ -154,6 +154,26 @@ TEST(VdbRecordGuard, DelayedLoadMetadataCountingMoreLeavesThanTheFileHoldsIsRefu
   EXPECT_NE(error.find("counts " + std::to_string(kHuge) + " leaves"), std::string::npos) << error;
 }
 
+// A root node that counts 4 billion tiles in a file of a few KB: OpenVDB went on reading a failed
+// stream 4 billion times (52 s); from the metadata on, a short read now throws.
+TEST(VdbRecordGuard, ARootCountingMoreTilesThanTheFileHoldsEndsAtTheFirstShortRead) {
+  TempDir dir;
+  std::string bytes = soundMediumBytes(dir);
+  // The density grid's tree after its transform: one buffer, background 0, no tiles (then children).
+  const std::string root = littleEndian32(1) + littleEndian32(0) + littleEndian32(0);
+  const std::size_t at = bytes.find(root, bytes.find("UniformScaleTranslateMap"));
+  ASSERT_NE(at, std::string::npos);
+  bytes.replace(at + 8, 4, littleEndian32(kHuge));
+  const std::string path = writeBytes(dir, "damaged.vdb", bytes);
+  const std::string error = fileError(path);
+  EXPECT_NE(error.find(path), std::string::npos) << error;
+  EXPECT_NE(error.find("ends before the data it describes"), std::string::npos) << error;
+  for (const bool seekable : {true, false}) {
+    const std::string from_stream = streamError(bytes, seekable);
+    EXPECT_NE(from_stream.find("ends before the data it describes"), std::string::npos) << from_stream;
+  }
+}
+
 // A frustum transform names its second map after the box, taper and depth.
 TEST(VdbRecordGuard, AFrustumsSecondMapTypeLongerThanTheFileIsRefusedAndASoundOneRead) {
   openvdb::initialize();
