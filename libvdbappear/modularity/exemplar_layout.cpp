@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/util/error.h"
+#include "libvdbappear/util/json_int.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -59,10 +60,12 @@ ExemplarLayout readLayoutJson(const std::string& path) {
     for (int j = 0; j < layout.height; ++j)
       for (int i = 0; i < layout.width; ++i) {
         const json& id = sheets[k][j][i];
-        if (!id.is_number_integer())
+        try {
+          layout.ids.push_back(intOf(id, "id"));
+        } catch (const std::invalid_argument&) {
           throw MediumError(fmt::format("{}: block ({},{},{}): '{}' is not an exemplar id (an integer)", path, i, j, k,
                                         id.dump()));
-        layout.ids.push_back(id.get<int>());
+        }
       }
   return layout;
 }

@@ -3,6 +3,7 @@
 #include "libvdbappear/render/area_light.h"
 #include "libvdbappear/render/environment_light.h"
 #include "libvdbappear/render/mesh_file.h"
+#include "libvdbappear/util/json_int.h"
 
 #include <fmt/format.h>
 
@@ -51,9 +52,17 @@ std::string resolve(const std::string& folder, const std::string& path) {
   return (std::filesystem::path(folder) / path).lexically_normal().string();
 }
 
+// A number; an integer key takes only integers within its type's range (util/json_int.h).
 template <typename T>
 T numberOf(const json& value, const std::string& source, const std::string& key) {
   if (!value.is_number()) fail(source, key, "expected a number");
+  if constexpr (std::is_integral_v<T>) {
+    try {
+      return integerOf<T>(value, "");
+    } catch (const std::invalid_argument& e) {
+      fail(source, key, e.what());
+    }
+  }
   return value.get<T>();
 }
 
@@ -110,8 +119,8 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     const auto& r = json["resolution"];
     if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
       fail(source, "resolution", "expected [width, height]");
-    scene->render.width = r[0];
-    scene->render.height = r[1];
+    scene->render.width = numberOf<int>(r[0], source, "resolution");
+    scene->render.height = numberOf<int>(r[1], source, "resolution");
     if (scene->render.width < 1 || scene->render.height < 1 || scene->render.width > 16384 || scene->render.height > 16384)
       fail(source, "resolution", "sizes must lie in 1..16384");
   }

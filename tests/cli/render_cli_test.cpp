@@ -131,7 +131,8 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   TempDir dir;
   const std::string out = dir.path("out.exr");
   const std::string truncated = dir.path("truncated.vdb"), scene = dir.path("bad.json"), typo = dir.path("typo.json"),
-                    sunless = dir.path("sunless.json"), interp = dir.path("interp.json"), strategy = dir.path("strategy.json");
+                    sunless = dir.path("sunless.json"), interp = dir.path("interp.json"), strategy = dir.path("strategy.json"),
+                    seed = dir.path("seed.json"), wide = dir.path("wide.json"), spp = dir.path("spp.json");
   {
     std::ifstream in(std::string(GOLDEN_DIR) + "/cube8.vdb", std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -141,6 +142,9 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
     std::ofstream(sunless) << R"({"lights": [{"type": "sun", "strength": 3}]})";
     std::ofstream(interp) << R"({"interp": "anreest"})";  // found by the scene fuzz harness: named neither file nor key
     std::ofstream(strategy) << R"({"strategy": "guess"})";
+    std::ofstream(seed) << R"({"seed": 1e50})";  // found by the scene fuzz harness: UB converting to an integer
+    std::ofstream(wide) << R"({"resolution": [4294967312, 16]})";  // 2^32 + 16: was read as 16
+    std::ofstream(spp) << R"({"spp": 2.5})";  // was read as 2
   }
   const std::vector<BadInput> cases{
       {"missing medium", quote(dir.path("none.vdb")), "none.vdb: no such file"},
@@ -156,6 +160,9 @@ TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
       {"sun without direction", kCube + " --scene " + quote(sunless), "lights[0]"},
       {"bad interp in a scene", kCube + " --scene " + quote(interp), "interp.json: interp: interpolation 'anreest'"},
       {"bad strategy in a scene", kCube + " --scene " + quote(strategy), "strategy.json: strategy: light strategy 'guess'"},
+      {"seed out of range in a scene", kCube + " --scene " + quote(seed), "seed.json: seed: expected an integer in 0..18446744073709551615, got 1e+50"},
+      {"width beyond int in a scene", kCube + " --scene " + quote(wide), "wide.json: resolution: expected an integer in"},
+      {"fractional spp in a scene", kCube + " --scene " + quote(spp), "spp.json: spp: expected an integer in"},
       {"cluster AOV without clusters", kCube + " --aov cluster", "--aov cluster needs a medium with a 'cluster' grid"},
       {"gradient AOV without lobes", kCube + " --aov dweights", "--aov dweights needs a multi-lobe medium"},
       {"unknown AOV", kCube + " --aov normals", "--aov 'normals'"},
