@@ -1,5 +1,6 @@
 // Faults on write (docs/reliability.md §4): a disk that fills up in the middle of a write, a stdout
-// that cannot take the stream, and two processes writing the same output at once. Each ends with
+// that cannot take the stream, two processes writing the same output at once, and SIGINT or SIGTERM
+// in the middle of a long render. Each ends with
 // the previous file intact or the new one whole, never a partial file, and no temporary left.
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
@@ -74,6 +75,29 @@ TEST(WriteFaults, TwoWritersOfOneOutputLeaveOneWholeFile) {
   const MediumPtr one = test::randomMedium(48, 1), two = test::randomMedium(48, 2);
   EXPECT_TRUE(test::gridsMatch(*one->density, *written->density, 0) ||
               test::gridsMatch(*two->density, *written->density, 0));
+}
+
+// SIGINT or SIGTERM two seconds into a render of some minutes (GNU timeout sends it; a shell's
+// background job would ignore SIGINT): the process ends by the signal, as a shell reports it
+// (128 + the signal's number), the previous image stays and nothing else is left behind.
+void expectInterruptedRenderKeepsThePreviousImage(const std::string& signal, int shell_status) {
+  TempDir dir;
+  const std::string out = dir.path("out.exr");
+  std::ofstream(out) << "previous result";
+  const auto r = runCommand("timeout --preserve-status -s " + signal + " 2 " + kRender +
+                            " --env 1 --ground --camera-pos 0,-3,2 --camera-target 0,0,0 --res 256 --spp 100000 -o " +
+                            quote(out));
+  EXPECT_EQ(r.status, shell_status) << r.err;
+  EXPECT_EQ(readFileBytes(out), "previous result");
+  EXPECT_EQ(test::listFiles(dir.root()), std::vector<std::string>{"out.exr"});
+}
+
+TEST(WriteFaults, SigintInTheMiddleOfARenderLeavesThePreviousImageAndNoTemporary) {
+  expectInterruptedRenderKeepsThePreviousImage("INT", 128 + 2);
+}
+
+TEST(WriteFaults, SigtermInTheMiddleOfARenderLeavesThePreviousImageAndNoTemporary) {
+  expectInterruptedRenderKeepsThePreviousImage("TERM", 128 + 15);
 }
 
 }  // namespace
