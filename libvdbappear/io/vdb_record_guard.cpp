@@ -1,6 +1,7 @@
-// Checked front ends of OpenVDB 10's three readers of length-prefixed records in a VDB file's
-// headers: io::GridDescriptor::read (a grid's name, type and instance parent), MetaMap::readMeta
-// (metadata names, types and values) and math::Transform::read (map type names).
+// Checked front ends of OpenVDB 10's readers of counts and length-prefixed records in a VDB file's
+// headers: io::Archive::readGridCount, io::GridDescriptor::read (a grid's name, type and instance
+// parent), MetaMap::readMeta (metadata names, types and values) and math::Transform::read (map
+// type names).
 //
 // OpenVDB 10.0, the version Debian 12 ships, reads such a string (readString, util/Name.h) by
 // allocating the length the file states, up to 4 GiB, before it knows whether the bytes are there,
@@ -14,13 +15,14 @@
 // loop on a failed stream (failOnShortReads: the counts of a root node's tiles and children).
 //
 // They take effect by symbol interposition, like the chunk readers of vdb_chunk_guard.cpp:
-// libopenvdb calls all three through its PLT, and libvdbappear, which exports them (exports.map),
+// libopenvdb calls all four through its PLT, and libvdbappear, which exports them (exports.map),
 // comes first in every tool's lookup order. A stream that cannot seek (a pipe) cannot be walked
 // ahead and goes to OpenVDB unchecked; readMediumStream therefore buffers such a stream first.
 
 #include <openvdb/Exceptions.h>
 #include <openvdb/MetaMap.h>
 #include <openvdb/Metadata.h>
+#include <openvdb/io/Archive.h>
 #include <openvdb/io/DelayedLoadMetadata.h>
 #include <openvdb/io/GridDescriptor.h>
 #include <openvdb/io/io.h>
@@ -191,6 +193,16 @@ void walkTransform(RecordWalk& walk, std::istream& is) {
   walk.string("a frustum's second map type");
 }
 
+// Archive::readGridCount: a stream's grid count, for which io::Stream reserves descriptors (some
+// 136 bytes each) before it reads any: 2^31 of them asked for 283 GB (tests/fuzz/regressions/).
+// Each grid takes at least its descriptor's name and type lengths and three offsets.
+void walkGridCount(RecordWalk& walk) {
+  constexpr std::uint64_t kMinGridBytes = 2 * sizeof(std::uint32_t) + 3 * sizeof(int64_t);
+  const std::int32_t count = walk.value<std::int32_t>("the grid count");
+  if (count < 0 || std::uint64_t(count) * kMinGridBytes > walk.left())
+    OPENVDB_THROW(IoError, "the grid count " << count << " does not fit in the " << walk.left() << " bytes the stream holds");
+}
+
 // From a VDB's metadata on (the file's, then each grid's, before its transform and tree), a read
 // that fails throws (std::ios_base::failure) instead of leaving OpenVDB to go on reading a failed
 // stream: a root node that counts 4 billion tiles (RootNode::readTopology) in a stream of 57 KB read
@@ -211,6 +223,16 @@ void MetaMap::readMeta(std::istream& is) {
 }
 
 namespace io {
+
+int32_t Archive::readGridCount(std::istream& is) {
+  {
+    RecordWalk walk(is);
+    if (walk.seekable()) walkGridCount(walk);
+  }
+  using Read = int32_t (*)(std::istream&);
+  static const Read read = openvdbDefinition<Read>("_ZN7openvdb5v10_02io7Archive13readGridCountERSi");
+  return read(is);
+}
 
 GridBase::Ptr GridDescriptor::read(std::istream& is) {
   {

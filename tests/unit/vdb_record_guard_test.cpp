@@ -154,6 +154,22 @@ TEST(VdbRecordGuard, DelayedLoadMetadataCountingMoreLeavesThanTheFileHoldsIsRefu
   EXPECT_NE(error.find("counts " + std::to_string(kHuge) + " leaves"), std::string::npos) << error;
 }
 
+// io::Stream reserves a descriptor per grid it counts before it reads one: 2^31 asked for 283 GB.
+TEST(VdbRecordGuard, AGridCountBeyondTheStreamIsRefusedBeforeAllocation) {
+  TempDir dir;
+  const std::string sound = soundMediumBytes(dir);
+  // The file's last metadata item (names are sorted) is the schema version; the grid count follows.
+  const std::string schema = littleEndian32(6) + "schema" + littleEndian32(5) + "int32" + littleEndian32(4);
+  const std::size_t at = sound.find(schema);
+  ASSERT_NE(at, std::string::npos);
+  for (const std::int32_t count : {std::int32_t(0x7FFFFFFF), std::int32_t(-1)}) {
+    std::string bytes = sound;
+    bytes.replace(at + schema.size() + 4, 4, littleEndian32(std::uint32_t(count)));
+    const std::string error = streamError(bytes, /*seekable=*/false);
+    EXPECT_NE(error.find("the grid count " + std::to_string(count) + " does not fit"), std::string::npos) << error;
+  }
+}
+
 // A root node that counts 4 billion tiles in a file of a few KB: OpenVDB went on reading a failed
 // stream 4 billion times (52 s); from the metadata on, a short read now throws.
 TEST(VdbRecordGuard, ARootCountingMoreTilesThanTheFileHoldsEndsAtTheFirstShortRead) {
