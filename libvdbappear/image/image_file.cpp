@@ -1,6 +1,8 @@
 #include "libvdbappear/image/image_file.h"
 
+#include "libvdbappear/image/exr_header_check.h"
 #include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/resource_limits.h"
 #include "libvdbappear/util/error.h"
 
 #include <OpenImageIO/imageio.h>
@@ -76,9 +78,16 @@ void writeExr(const ImageChannels& image, const std::string& path) {
 ImageChannels readImageChannels(const std::string& path) {
   namespace OIIO = OIIO_NAMESPACE;
   if (!std::filesystem::is_regular_file(path)) throw MediumError(fmt::format("{}: no such image file", path));
+  checkExrHeaders(path);
   auto input = OIIO::ImageInput::open(path);
   if (!input) throw MediumError(fmt::format("{}: cannot read the image: {}", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = input->spec();
+  // A header can state any size: the floats it asks for must fit the memory a render may hold.
+  const double bytes = double(spec.width) * spec.height * spec.nchannels * sizeof(float);
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || bytes > double(maxRenderBytes()))
+    throw MediumError(fmt::format("{}: a {}x{} image of {} channels ({:.0f} bytes as floats) is beyond the memory "
+                                  "limit of {} bytes (VDBAPPEAR_MAX_RENDER_BYTES)",
+                                  path, spec.width, spec.height, spec.nchannels, bytes, maxRenderBytes()));
   ImageChannels image;
   image.width = spec.width;
   image.height = spec.height;

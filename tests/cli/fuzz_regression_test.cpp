@@ -38,11 +38,15 @@ std::vector<Reader> readersOf(const std::string& kind) {
     return {{"sh_lightgrid", quote(VDB_SH_LIGHTGRID) + " --lights IN --bbox -1,-1,-1,1,1,1 --res 3 --lmax 2 -o OUT.vdb -j 1"}};
   if (kind == "lightgrid")
     return {{"render", quote(VDB_RENDER) + " medium.vdb -o OUT.png --res 12 --spp 2 -j 1 --env 0.5 --sh-lightgrid IN"}};
+  if (kind == "envmap")
+    return {{"render", quote(VDB_RENDER) + " medium.vdb -o OUT.png --res 12 --spp 2 -j 1 --env-map IN"},
+            {"image_compare", quote(VDB_IMAGE_COMPARE) + " IN IN --error-map OUT.png"}};
   return {};
 }
 
-// Scenes and SH light grids come with a medium (cube8.vdb of grids/golden, copied beside them).
-bool needsMedium(const std::string& kind) { return kind == "scene" || kind == "lightgrid"; }
+// Scenes, SH light grids and environment maps come with a medium (cube8.vdb of grids/golden,
+// copied beside them).
+bool needsMedium(const std::string& kind) { return kind == "scene" || kind == "lightgrid" || kind == "envmap"; }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {
   for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
@@ -63,7 +67,7 @@ TEST(FuzzRegressions, EveryToolEndsCleanlyOnEveryKeptInput) {
   for (const fs::path& input : inputs) {
     const std::string file = input.filename().string(), kind = file.substr(0, file.find('-'));
     const std::vector<Reader> readers = readersOf(kind);
-    ASSERT_FALSE(readers.empty()) << file << ": name it medium-, scene-, lights- or lightgrid-";
+    ASSERT_FALSE(readers.empty()) << file << ": name it medium-, scene-, lights-, lightgrid- or envmap-";
     for (const Reader& reader : readers) {
       TempDir dir;
       const std::string in = dir.path(file), out = dir.path("out");
