@@ -65,8 +65,11 @@ class RecordWalk {
   }
   ~RecordWalk() {
     if (start_ < 0) return;
-    is_.clear();
-    is_.seekg(start_);
+    try {  // a stream with exceptions set (failOnShortReads) could throw here; OpenVDB then fails on it
+      is_.clear();
+      is_.seekg(start_);
+    } catch (const std::ios_base::failure&) {
+    }
   }
   RecordWalk(const RecordWalk&) = delete;
   RecordWalk& operator=(const RecordWalk&) = delete;
