@@ -64,13 +64,37 @@ TEST(ExrHeaderCheck, TheSecondPartOfAMultiPartFileIsChecked) {
   EXPECT_NE(checkError(dir, exrBytes(0x1000, kOwner + '\0' + bad + '\0' + '\0')).find("attribute 'comments'"), std::string::npos);
 }
 
-TEST(ExrHeaderCheck, LongNamesNeedTheirFlagAndAHeaderMustEnd) {
+// OpenEXR 3.1 reads names of up to 255 characters whatever the long-names flag says.
+TEST(ExrHeaderCheck, NamesEndWithin255CharactersAndAHeaderMustEnd) {
   TempDir dir;
-  const std::string long_name = attribute(std::string(40, 'n'), "string", "x");
-  EXPECT_NE(checkError(dir, exrBytes(0, long_name + '\0')).find("longer than 31 characters"), std::string::npos);
-  EXPECT_EQ(checkError(dir, exrBytes(0x400, long_name + '\0')), "accepted");
+  EXPECT_EQ(checkError(dir, exrBytes(0, attribute(std::string(40, 'n'), "string", "x") + '\0')), "accepted");
+  EXPECT_NE(checkError(dir, exrBytes(0, attribute(std::string(300, 'n'), "string", "x") + '\0')).find("longer than 255"),
+            std::string::npos);
   const std::string truncated = littleEndian32(20000630) + littleEndian32(2) + kOwner + "pixelAsp";
   EXPECT_NE(checkError(dir, truncated).find("the file ends inside"), std::string::npos);
+}
+
+// A fixed-size value is read at its type's size whatever the file states: a float stating 1000
+// bytes would leave OpenEXR reading the next attribute from inside this one.
+TEST(ExrHeaderCheck, AFixedSizeValueStatingAnotherSizeIsRefused) {
+  TempDir dir;
+  const std::string error = checkError(dir, exrBytes(0, attribute("pixelAspectRatio", "float", std::string(1000, '\0')) + '\0'));
+  EXPECT_NE(error.find("attribute 'pixelAspectRatio' states 1000 bytes, a float takes 4"), std::string::npos) << error;
+}
+
+// A channel list is read entry by entry up to an empty name, whatever size it states (found by the
+// fuzz harness: a list stating 55 bytes ran on over the next attribute, whose value then stated
+// 1.7 GB to OpenEXR while a walk by stated sizes saw a sound header).
+TEST(ExrHeaderCheck, AChannelListIsWalkedAsOpenExrReadsIt) {
+  TempDir dir;
+  const std::string channel = std::string("R") + '\0' + std::string(16, '\x01');
+  const std::string sound = attribute("channels", "chlist", channel + '\0');
+  EXPECT_EQ(checkError(dir, exrBytes(0, kOwner + sound + kAspect + '\0')), "accepted");
+  // States one entry's 18 bytes, holds two entries and the list's end, then a string of 1 GiB.
+  const std::string run_on = attribute("channels", "chlist", channel, 18) + "G" + '\0' + std::string(16, '\x01') + '\0' +
+                             attribute("comments", "string", "x", 1 << 30);
+  const std::string error = checkError(dir, exrBytes(0, run_on + '\0'));
+  EXPECT_NE(error.find("attribute 'comments' states 1073741824 bytes"), std::string::npos) << error;
 }
 
 }  // namespace
