@@ -75,6 +75,32 @@ void writeExr(const ImageChannels& image, const std::string& path) {
   file.commit();
 }
 
+namespace {
+
+// A header can state any size, and a damaged 425-byte file stated 400 MB of pixels (3.9 s to
+// allocate and fail to decode; found by the environment-map fuzz harness). The floats asked for
+// must fit the memory a render may hold, and a file of some size can expand to at most this many
+// times its bytes: deflate packs at most 1032:1, 8-bit samples become 4-byte floats, and a margin
+// of four on top. Small images pass whatever their file.
+constexpr double kMaxExpansion = 16384, kAlwaysAllowedBytes = 64 << 20;
+
+void checkStatedImageSize(int width, int height, int channels, const std::string& path) {
+  const double bytes = double(width) * height * channels * sizeof(float);
+  const double file_bytes = double(std::filesystem::file_size(path));
+  if (width <= 0 || height <= 0 || channels <= 0)
+    throw MediumError(fmt::format("{}: the image states {}x{} pixels of {} channels", path, width, height, channels));
+  if (bytes > double(maxRenderBytes()))
+    throw MediumError(fmt::format("{}: a {}x{} image of {} channels ({:.0f} bytes as floats) is beyond the memory "
+                                  "limit of {} bytes (VDBAPPEAR_MAX_RENDER_BYTES)",
+                                  path, width, height, channels, bytes, maxRenderBytes()));
+  if (bytes > std::max(kAlwaysAllowedBytes, kMaxExpansion * file_bytes))
+    throw MediumError(fmt::format("{}: a {}x{} image of {} channels ({:.0f} bytes as floats) from a file of {:.0f} "
+                                  "bytes: more than {:.0f} times its size, which no image codec packs (damaged?)",
+                                  path, width, height, channels, bytes, file_bytes, kMaxExpansion));
+}
+
+}  // namespace
+
 ImageChannels readImageChannels(const std::string& path) {
   namespace OIIO = OIIO_NAMESPACE;
   if (!std::filesystem::is_regular_file(path)) throw MediumError(fmt::format("{}: no such image file", path));
@@ -82,12 +108,7 @@ ImageChannels readImageChannels(const std::string& path) {
   auto input = OIIO::ImageInput::open(path);
   if (!input) throw MediumError(fmt::format("{}: cannot read the image: {}", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = input->spec();
-  // A header can state any size: the floats it asks for must fit the memory a render may hold.
-  const double bytes = double(spec.width) * spec.height * spec.nchannels * sizeof(float);
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || bytes > double(maxRenderBytes()))
-    throw MediumError(fmt::format("{}: a {}x{} image of {} channels ({:.0f} bytes as floats) is beyond the memory "
-                                  "limit of {} bytes (VDBAPPEAR_MAX_RENDER_BYTES)",
-                                  path, spec.width, spec.height, spec.nchannels, bytes, maxRenderBytes()));
+  checkStatedImageSize(spec.width, spec.height, spec.nchannels, path);
   ImageChannels image;
   image.width = spec.width;
   image.height = spec.height;

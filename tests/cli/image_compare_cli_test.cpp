@@ -5,6 +5,8 @@
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <cstdint>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 namespace vdbappear {
@@ -50,6 +52,35 @@ TEST(ImageCompareCli, MaskCountsOnlyItsPixels) {
   const auto bad = runCommand(kCompare + " " + quote(reference) + " " + quote(test) + " --mask " + quote(dir.path("small.exr")));
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.err.find("small.exr: the mask is 1x1"), std::string::npos) << bad.err;
+}
+
+// The header of an OpenEXR file of 5 KB (PIZ-compressed scanlines, an offset table of zeros)
+// stating 20000x20000 pixels: 1.6 GB of floats. A damaged environment map of 425 bytes stated
+// 400 MB and took 3.9 s to allocate and fail to decode (fuzz finding, docs/reliability.md §2).
+std::string exrStating(int width, int height) {
+  const auto le32 = [](std::int32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  const auto attribute = [&](const std::string& name, const std::string& type, const std::string& value) {
+    return name + '\0' + type + '\0' + le32(std::int32_t(value.size())) + value;
+  };
+  const std::string box = le32(0) + le32(0) + le32(width - 1) + le32(height - 1);
+  const std::string one = le32(0x3f800000);  // 1.0f
+  const std::string channel = std::string("R") + '\0' + le32(1) + std::string(4, '\0') + le32(1) + le32(1) + '\0';
+  std::string bytes = le32(20000630) + le32(2) + attribute("channels", "chlist", channel) +
+                      attribute("compression", "compression", std::string(1, '\x04')) +
+                      attribute("dataWindow", "box2i", box) + attribute("displayWindow", "box2i", box) +
+                      attribute("lineOrder", "lineOrder", std::string(1, '\0')) + attribute("pixelAspectRatio", "float", one) +
+                      attribute("screenWindowCenter", "v2f", std::string(8, '\0')) + attribute("screenWindowWidth", "float", one) + '\0';
+  return bytes + std::string(8 * ((height + 31) / 32) + 64, '\0');
+}
+
+TEST(ImageCompareCli, AnImageStatingFarMorePixelsThanItsFileCanHoldIsRefusedBeforeAllocation) {
+  TempDir dir;
+  const std::string image = dir.path("huge.exr");
+  std::ofstream(image, std::ios::binary) << exrStating(20000, 20000);
+  const auto r = runCommand(kCompare + " " + quote(image) + " " + quote(image) + " --report -");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(image + ": a 20000x20000 image of 1 channels (1600000000 bytes as floats) from a file of"),
+            std::string::npos) << r.err;
 }
 
 }  // namespace
