@@ -36,11 +36,18 @@ std::size_t fixedValueBytes(const std::string& type) {
 
 class HeaderReader {
  public:
+  // Reads the magic number and version; isExr() says whether the file is OpenEXR at all.
   explicit HeaderReader(const std::string& path)
       : path_(path), in_(path, std::ios::binary), size_(std::filesystem::file_size(path)) {
-    in_.seekg(8);
+    std::uint32_t magic = 0;
+    in_.read(reinterpret_cast<char*>(&magic), sizeof magic);
+    in_.read(reinterpret_cast<char*>(&version_), sizeof version_);
+    is_exr_ = in_ && magic == kExrMagic;  // else not OpenEXR, or too short for OpenImageIO to take it as such
     position_ = 8;
   }
+
+  bool isExr() const { return is_exr_; }
+  bool multiPart() const { return version_ & kMultiPartFlag; }
 
   // A name or type name: at most 255 characters, then a zero byte.
   std::string name(const char* what) {
@@ -81,6 +88,8 @@ class HeaderReader {
   std::string path_;
   std::ifstream in_;
   std::uint64_t size_, position_ = 0;
+  std::uint32_t version_ = 0;
+  bool is_exr_ = false;
 };
 
 // A channel list as ChannelListAttribute::readValueFrom reads it: entries (a name, then type,
@@ -116,16 +125,10 @@ void walkHeader(HeaderReader& reader) {
 }  // namespace
 
 void checkExrHeaders(const std::string& path) {
-  std::uint32_t magic = 0, version = 0;
-  {
-    std::ifstream in(path, std::ios::binary);
-    in.read(reinterpret_cast<char*>(&magic), sizeof magic);
-    in.read(reinterpret_cast<char*>(&version), sizeof version);
-    if (!in || magic != kExrMagic) return;  // not OpenEXR, or too short for OpenImageIO to take it as such
-  }
   HeaderReader reader(path);
+  if (!reader.isExr()) return;
   walkHeader(reader);
-  if (!(version & kMultiPartFlag)) return;
+  if (!reader.multiPart()) return;
   while (!reader.nextIsEmptyName()) walkHeader(reader);
 }
 

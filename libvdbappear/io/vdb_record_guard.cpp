@@ -212,13 +212,17 @@ void walkGridCount(RecordWalk& walk) {
 // nothing 4 billion times, 52 s (tests/fuzz/regressions/). A sound file never reads past its end.
 void failOnShortReads(std::istream& is) { is.exceptions(is.exceptions() | std::ios_base::failbit | std::ios_base::badbit); }
 
+// Runs `walk_records` over the records ahead of `is` where the stream can seek, then puts it back.
+template <typename WalkRecords>
+void walkAhead(std::istream& is, WalkRecords walk_records) {
+  RecordWalk walk(is);
+  if (walk.seekable()) walk_records(walk);
+}
+
 }  // namespace
 
 void MetaMap::readMeta(std::istream& is) {
-  {
-    RecordWalk walk(is);
-    if (walk.seekable()) walkMetaMap(walk);
-  }
+  walkAhead(is, walkMetaMap);
   using Read = void (*)(MetaMap*, std::istream&);
   static const Read read = openvdbDefinition<Read>("_ZN7openvdb5v10_07MetaMap8readMetaERSi");
   read(this, is);
@@ -228,20 +232,14 @@ void MetaMap::readMeta(std::istream& is) {
 namespace io {
 
 int32_t Archive::readGridCount(std::istream& is) {
-  {
-    RecordWalk walk(is);
-    if (walk.seekable()) walkGridCount(walk);
-  }
+  walkAhead(is, walkGridCount);
   using Read = int32_t (*)(std::istream&);
   static const Read read = openvdbDefinition<Read>("_ZN7openvdb5v10_02io7Archive13readGridCountERSi");
   return read(is);
 }
 
 GridBase::Ptr GridDescriptor::read(std::istream& is) {
-  {
-    RecordWalk walk(is);
-    if (walk.seekable()) walkGridDescriptor(walk, is);
-  }
+  walkAhead(is, [&is](RecordWalk& walk) { walkGridDescriptor(walk, is); });
   using Read = GridBase::Ptr (*)(GridDescriptor*, std::istream&);
   static const Read read = openvdbDefinition<Read>("_ZN7openvdb5v10_02io14GridDescriptor4readERSi");
   return read(this, is);
@@ -252,10 +250,7 @@ GridBase::Ptr GridDescriptor::read(std::istream& is) {
 namespace math {
 
 void Transform::read(std::istream& is) {
-  {
-    RecordWalk walk(is);
-    if (walk.seekable()) walkTransform(walk, is);
-  }
+  walkAhead(is, [&is](RecordWalk& walk) { walkTransform(walk, is); });
   using Read = void (*)(Transform*, std::istream&);
   static const Read read = openvdbDefinition<Read>("_ZN7openvdb5v10_04math9Transform4readERSi");
   read(this, is);

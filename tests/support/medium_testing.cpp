@@ -1,5 +1,7 @@
 #include "medium_testing.h"
 
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/util/error.h"
 #include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/procedural/weave_medium.h"
@@ -11,6 +13,15 @@ void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, cons
   openvdb::io::File file(path);
   file.write(grids, metadata);
   file.close();
+}
+
+std::string readMediumError(const std::string& path) {
+  try {
+    readMedium(path);
+  } catch (const MediumError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 MediumPtr randomMedium(int extent, std::uint64_t seed) {

@@ -11,6 +11,9 @@
 
 namespace vdbappear::test {
 
+// The MediumError message of reading `path` with readMedium, or "" when it reads.
+std::string readMediumError(const std::string& path);
+
 // Writes grids and metadata with OpenVDB alone (no validation, no history), as another program might.
 void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& metadata = {});
 

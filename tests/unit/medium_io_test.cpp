@@ -44,15 +44,6 @@ Coord denseVoxel(const Medium& medium) {
   throw std::logic_error("no dense voxel");
 }
 
-std::string readError(const std::string& path) {
-  try {
-    readMedium(path);
-  } catch (const MediumError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(MediumIo, RoundTripKeepsEveryGridAndAppendsHistory) {
   TempDir dir;
   const MediumPtr original = smallMedium(1, /*hg=*/true);
@@ -204,7 +195,7 @@ TEST_P(BadMediumTest, FailsWithOneMessageNamingFileAndGrid) {
   const std::string path = dir.path(bad.name + ".vdb");
   test::writeRawVdb(path, grids, metadata);
 
-  const std::string message = readError(path);
+  const std::string message = test::readMediumError(path);
   ASSERT_FALSE(message.empty()) << bad.name << ": accepted";
   EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
   if (!bad.grid.empty()) {
@@ -243,7 +234,7 @@ TEST(MediumIo, FirstBadVoxelIsReportedWhateverTheThreadCount) {
   expected << "at voxel (" << first.x() << "," << first.y() << "," << first.z() << ")";
   for (int threads : {1, 2, 8}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    const std::string message = readError(dir.path("bad.vdb"));
+    const std::string message = test::readMediumError(dir.path("bad.vdb"));
     EXPECT_NE(message.find(expected.str()), std::string::npos) << threads << " threads: " << message;
   }
 }
@@ -253,21 +244,21 @@ TEST(MediumIo, BadTileValuesAndBackgroundsAreReported) {
   MediumPtr medium = smallMedium();
   medium->density->tree().addTile(1, Coord(800, 0, 0), -2.0f, true);
   test::writeRawVdb(dir.path("tile.vdb"), test::copyGrids(*medium));
-  EXPECT_NE(readError(dir.path("tile.vdb")).find("negative density -2 at tile (800,0,0)"), std::string::npos)
-      << readError(dir.path("tile.vdb"));
+  EXPECT_NE(test::readMediumError(dir.path("tile.vdb")).find("negative density -2 at tile (800,0,0)"), std::string::npos)
+      << test::readMediumError(dir.path("tile.vdb"));
 
   medium = smallMedium();
   medium->sggx_offdiag->tree().root().setBackground(Vec3s(NAN), true);
   test::writeRawVdb(dir.path("background.vdb"), test::copyGrids(*medium));
-  EXPECT_NE(readError(dir.path("background.vdb")).find("grid 'sggx_offdiag': background is NaN or infinite"),
+  EXPECT_NE(test::readMediumError(dir.path("background.vdb")).find("grid 'sggx_offdiag': background is NaN or infinite"),
             std::string::npos)
-      << readError(dir.path("background.vdb"));
+      << test::readMediumError(dir.path("background.vdb"));
 
   medium = smallMedium();
   openvdb::MetaMap metadata;
   metadata.insertMeta("hg_g", openvdb::Int32Metadata(0));
   test::writeRawVdb(dir.path("meta.vdb"), test::copyGrids(*medium), metadata);
-  EXPECT_NE(readError(dir.path("meta.vdb")).find("metadata 'hg_g' is not a number"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.path("meta.vdb")).find("metadata 'hg_g' is not a number"), std::string::npos);
 }
 
 // A few bytes of tiles in a file claim billions of voxels, which validation would voxelise: refused
@@ -277,27 +268,27 @@ TEST(MediumIo, TilesBeyondTheVoxelLimitAreRefusedBeforeTheyAreVoxelised) {
   MediumPtr medium = smallMedium();
   medium->density->tree().addTile(3, Coord(4096 * 4, 0, 0), 1.0f, true);  // a root tile: 4096^3 voxels
   test::writeRawVdb(dir.path("huge.vdb"), test::copyGrids(*medium));
-  EXPECT_NE(readError(dir.path("huge.vdb"))
+  EXPECT_NE(test::readMediumError(dir.path("huge.vdb"))
                 .find("huge.vdb: grid 'density': its active tiles cover 68719476736 voxels, more than the limit of "
                       "2147483648 (VDBAPPEAR_MAX_TILE_VOXELS raises it)"),
             std::string::npos)
-      << readError(dir.path("huge.vdb"));
+      << test::readMediumError(dir.path("huge.vdb"));
 
   medium = smallMedium();
   medium->density->tree().addTile(2, Coord(1024, 0, 0), 1.0f, true);  // 128^3 = 2097152 voxels
   test::writeRawVdb(dir.path("tile.vdb"), {medium->density});  // density alone: valid wherever it is dense
-  EXPECT_EQ(readError(dir.path("tile.vdb")), "");
+  EXPECT_EQ(test::readMediumError(dir.path("tile.vdb")), "");
   {
     const test::ScopedEnvironment limit("VDBAPPEAR_MAX_TILE_VOXELS", "1000000");
-    EXPECT_NE(readError(dir.path("tile.vdb")).find("its active tiles cover 2097152 voxels, more than the limit of 1000000"),
+    EXPECT_NE(test::readMediumError(dir.path("tile.vdb")).find("its active tiles cover 2097152 voxels, more than the limit of 1000000"),
               std::string::npos)
-        << readError(dir.path("tile.vdb"));
+        << test::readMediumError(dir.path("tile.vdb"));
   }
   {
     const test::ScopedEnvironment nonsense("VDBAPPEAR_MAX_TILE_VOXELS", "lots");
-    EXPECT_NE(readError(dir.path("tile.vdb")).find("VDBAPPEAR_MAX_TILE_VOXELS='lots': expected a positive integer"),
+    EXPECT_NE(test::readMediumError(dir.path("tile.vdb")).find("VDBAPPEAR_MAX_TILE_VOXELS='lots': expected a positive integer"),
               std::string::npos)
-        << readError(dir.path("tile.vdb"));
+        << test::readMediumError(dir.path("tile.vdb"));
   }
 }
 
@@ -307,7 +298,7 @@ TEST(MediumIo, UnnamedGridsAreRejected) {
   openvdb::GridPtrVec grids = test::copyGrids(*medium);
   grids.push_back(openvdb::FloatGrid::create());
   test::writeRawVdb(dir.path("unnamed.vdb"), grids);
-  EXPECT_NE(readError(dir.path("unnamed.vdb")).find("a grid has no name"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.path("unnamed.vdb")).find("a grid has no name"), std::string::npos);
 }
 
 TEST(MediumIo, InvalidMediaAreNeverWritten) {
@@ -325,12 +316,12 @@ TEST(MediumIo, InvalidMediaAreNeverWritten) {
 
 TEST(MediumIo, UnreadableFilesAreReportedByName) {
   TempDir dir;
-  EXPECT_NE(readError(dir.path("absent.vdb")).find("absent.vdb: no such file"), std::string::npos);
-  EXPECT_NE(readError(dir.root().string()).find("is a directory"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.path("absent.vdb")).find("absent.vdb: no such file"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.root().string()).find("is a directory"), std::string::npos);
   std::ofstream(dir.path("empty.vdb")).close();
-  EXPECT_NE(readError(dir.path("empty.vdb")).find("empty.vdb: not a readable VDB file"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.path("empty.vdb")).find("empty.vdb: not a readable VDB file"), std::string::npos);
   std::ofstream(dir.path("text.vdb")) << "this is not a VDB file\n";
-  EXPECT_NE(readError(dir.path("text.vdb")).find("text.vdb: not a readable VDB file"), std::string::npos);
+  EXPECT_NE(test::readMediumError(dir.path("text.vdb")).find("text.vdb: not a readable VDB file"), std::string::npos);
 }
 
 TEST(MediumIo, TruncatedFilesAreRejectedWhereverTheyEnd) {
@@ -341,7 +332,7 @@ TEST(MediumIo, TruncatedFilesAreRejectedWhereverTheyEnd) {
     const std::string cut = dir.path("cut.vdb");
     std::filesystem::copy_file(dir.path("whole.vdb"), cut, std::filesystem::copy_options::overwrite_existing);
     std::filesystem::resize_file(cut, std::uintmax_t(keep * double(size)));
-    const std::string message = readError(cut);
+    const std::string message = test::readMediumError(cut);
     EXPECT_EQ(message.rfind(cut + ": ", 0), 0u) << "kept " << keep << ": '" << message << "'";
   }
 }

@@ -7,6 +7,7 @@
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -51,15 +52,6 @@ std::string writeBytes(const TempDir& dir, const std::string& name, const std::s
   return dir.path(name);
 }
 
-std::string fileError(const std::string& path) {
-  try {
-    readMedium(path);
-  } catch (const MediumError& e) {
-    return e.what();
-  }
-  return "read without error";
-}
-
 // A stream that cannot seek, like a pipe on stdin.
 struct PipeBuffer : std::stringbuf {
   explicit PipeBuffer(const std::string& bytes) : std::stringbuf(bytes) {}
@@ -84,7 +76,7 @@ std::string streamError(const std::string& bytes, bool seekable) {
 void expectRefused(const std::string& bytes, const std::string& what, const TempDir& dir) {
   const std::string stated = "states " + std::to_string(kHuge) + " bytes";
   const std::string path = writeBytes(dir, "damaged.vdb", bytes);
-  const std::string from_file = fileError(path);
+  const std::string from_file = test::readMediumError(path);
   EXPECT_NE(from_file.find(path), std::string::npos) << what << ": " << from_file;
   EXPECT_NE(from_file.find(stated), std::string::npos) << what << ": " << from_file;
   for (const bool seekable : {true, false}) {
@@ -138,7 +130,7 @@ TEST(VdbRecordGuard, AFixedSizeMetadataValueOfAnotherSizeIsRefused) {
   const std::size_t at = bytes.find(record);
   ASSERT_NE(at, std::string::npos);
   bytes.replace(at + record.size(), 4, littleEndian32(1000));
-  const std::string error = fileError(writeBytes(dir, "damaged.vdb", bytes));
+  const std::string error = test::readMediumError(writeBytes(dir, "damaged.vdb", bytes));
   EXPECT_NE(error.find("states 1000 bytes, a vec3i takes 12"), std::string::npos) << error;
 }
 
@@ -150,7 +142,7 @@ TEST(VdbRecordGuard, DelayedLoadMetadataCountingMoreLeavesThanTheFileHoldsIsRefu
   const std::size_t at = bytes.find(record);
   ASSERT_NE(at, std::string::npos);
   bytes.replace(at + record.size() + 4, 4, littleEndian32(kHuge));  // after the value's size: the leaf count
-  const std::string error = fileError(writeBytes(dir, "damaged.vdb", bytes));
+  const std::string error = test::readMediumError(writeBytes(dir, "damaged.vdb", bytes));
   EXPECT_NE(error.find("counts " + std::to_string(kHuge) + " leaves"), std::string::npos) << error;
 }
 
@@ -181,7 +173,7 @@ TEST(VdbRecordGuard, ARootCountingMoreTilesThanTheFileHoldsEndsAtTheFirstShortRe
   ASSERT_NE(at, std::string::npos);
   bytes.replace(at + 8, 4, littleEndian32(kHuge));
   const std::string path = writeBytes(dir, "damaged.vdb", bytes);
-  const std::string error = fileError(path);
+  const std::string error = test::readMediumError(path);
   EXPECT_NE(error.find(path), std::string::npos) << error;
   EXPECT_NE(error.find("ends before the data it describes"), std::string::npos) << error;
   for (const bool seekable : {true, false}) {
