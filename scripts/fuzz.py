@@ -30,7 +30,10 @@ from concurrent.futures import ThreadPoolExecutor
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 HARNESSES = ["medium_file", "medium_stream", "scene", "light_list", "phase_table", "sh_light_grid", "mesh",
-             "environment_map", "reference_cache", "checkpoint"]
+             "environment_map", "reference_cache", "checkpoint", "command_line"]
+# The command-line harness: its flags as a dictionary; the tools' error lines (one per input) kept
+# out of its log (libFuzzer's own output and sanitizer reports still reach it).
+EXTRA = {"command_line": [f"-dict={ROOT / 'tests' / 'fuzz' / 'dictionaries' / 'command_line.dict'}", "-close_fd_mask=2"]}
 # libFuzzer's status line: "#1234 REDUCE cov: 456 ft: 789 corp: 12/34Kb ..."
 STATUS = re.compile(r"^#(\d+)\s+\S+\s+cov: (\d+) ft: (\d+) corp: (\d+)/")
 
@@ -43,14 +46,14 @@ def fuzz(name, args):
     binary = pathlib.Path(args.build) / "fuzz" / f"fuzz_{name}"
     if not binary.exists():
         sys.exit(f"fuzz.py: {binary}: no such harness (build it with make test-sanitize)")
-    out = pathlib.Path(args.out)
+    out = pathlib.Path(args.out).resolve()  # the command-line harness runs tools in a removed folder
     corpus, findings = out / "corpus" / name, out / "findings" / name
     corpus.mkdir(parents=True, exist_ok=True)
     findings.mkdir(parents=True, exist_ok=True)
     log = out / f"{name}.log"
     command = [str(binary), str(corpus), str(seeds_of(name)), f"-max_total_time={args.seconds}",
                f"-timeout={args.timeout}", f"-rss_limit_mb={args.rss_mb or args.memory_mb}", f"-malloc_limit_mb={args.memory_mb}",
-               f"-artifact_prefix={findings}/", "-print_final_stats=1", "-detect_leaks=1"]
+               f"-artifact_prefix={findings}/", "-print_final_stats=1", "-detect_leaks=1"] + EXTRA.get(name, [])
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0", UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1",
                LSAN_OPTIONS=f"suppressions={ROOT / 'tests' / 'lsan.supp'}:print_suppressions=0")
     start = time.monotonic()
