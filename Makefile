@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build test sanitize-build test-sanitize fuzz demo bench bench-render lobes similarity lightgrid optimize modularity clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render lobes similarity lightgrid optimize modularity clean
 
 all: build
 
@@ -17,6 +17,12 @@ configure: deps
 
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# The tools, libvdbappear (CMake package, pkg-config), man pages and bash completion under PREFIX
+# (docs/library.md); never /usr, where Debian's libopenvdb-tools keeps its own vdb_render.
+PREFIX ?= /usr/local
+install: build
+	@cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 test: build
 	@ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)

@@ -27,6 +27,8 @@ packages=(
   clang-14 libclang-rt-14-dev
   # benchmarks (bench/, run by scripts)
   libbenchmark-dev
+  # man pages from the tools' --help (make install), and man to read them in the install test
+  help2man man-db
 )
 
 if [[ "${1:-}" == "--print" ]]; then
