@@ -4,6 +4,8 @@
 #include "libvdbappear/similarity/legendre_moments.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
 #include <libalglib/optimization.h>
 
 #include <algorithm>
@@ -13,19 +15,27 @@
 namespace vdbappear {
 namespace {
 
-// Q = S^T S of the second-difference matrix S ((k-2) x k, rows -1 2 -1): pentadiagonal, upper part.
-alglib::sparsematrix poissonQuadraticTerm(int bins) {
-  Eigen::MatrixXd q = Eigen::MatrixXd::Zero(bins, bins);
+// Q = S^T S of the second-difference matrix S ((k-2) x k, rows -1 2 -1): pentadiagonal.
+Eigen::SparseMatrix<double> poissonQuadraticTerm(int bins) {
+  std::vector<Eigen::Triplet<double>> entries;
   for (int r = 0; r + 2 < bins; ++r) {
     const double row[3] = {-1, 2, -1};
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) q(r + a, r + b) += row[a] * row[b];
+      for (int b = 0; b < 3; ++b) entries.emplace_back(r + a, r + b, row[a] * row[b]);
   }
+  Eigen::SparseMatrix<double> q(bins, bins);
+  q.setFromTriplets(entries.begin(), entries.end());  // sums the overlapping rows
+  return q;
+}
+
+// The upper part of 2 Q in ALGLIB's form (it minimises x^T A x / 2).
+alglib::sparsematrix alglibQuadraticTerm(const Eigen::SparseMatrix<double>& q) {
+  const int bins = int(q.rows());
   alglib::sparsematrix sparse;
   alglib::sparsecreate(bins, bins, 5 * bins, sparse);
-  for (int i = 0; i < bins; ++i)
-    for (int j = i; j < std::min(bins, i + 3); ++j)
-      if (q(i, j) != 0) alglib::sparseset(sparse, i, j, 2 * q(i, j));  // ALGLIB minimises x^T A x / 2
+  for (int j = 0; j < q.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(q, j); it; ++it)
+      if (it.row() <= it.col() && it.value() != 0) alglib::sparseset(sparse, int(it.row()), int(it.col()), 2 * it.value());
   return sparse;
 }
 
@@ -38,11 +48,12 @@ Eigen::MatrixXd scaledMomentMatrix(int bins, int order) {
   return m;
 }
 
-Eigen::VectorXd solveQp(const Eigen::MatrixXd& g, const Eigen::VectorXd& target, int& termination) {
+Eigen::VectorXd solveQp(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
+                        int& termination) {
   const int bins = int(g.cols()), rows = int(g.rows());
   alglib::minqpstate state;
   alglib::minqpcreate(bins, state);
-  alglib::minqpsetquadratictermsparse(state, poissonQuadraticTerm(bins), true);
+  alglib::minqpsetquadratictermsparse(state, alglibQuadraticTerm(q), true);
   alglib::real_2d_array c;
   c.setlength(rows, bins + 1);
   for (int n = 0; n < rows; ++n) {
@@ -69,21 +80,91 @@ Eigen::VectorXd solveQp(const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
   return result;
 }
 
-// Zeroes bins below kZeroBin and re-imposes g x = target on the others (least-norm correction).
-// Returns false if the correction would make a bin negative.
-bool polish(const Eigen::MatrixXd& g, const Eigen::VectorXd& target, Eigen::VectorXd& x) {
-  std::vector<int> positive;
-  for (int i = 0; i < x.size(); ++i) {
-    if (x[i] < kZeroBin) x[i] = 0;
-    else positive.push_back(i);
+// The exact optimum of Eq. (31) with the bins of `active` held at 0: the KKT system of the
+// equality-constrained problem on the free bins F,
+//   [2 Q_FF  G_F^T] [x_F   ]   [0]
+//   [G_F     0    ] [lambda] = [t],
+// solved sparsely (Q is pentadiagonal, G has N + 1 rows). False when it is singular (G_F without
+// full row rank: too few free bins for the moments).
+bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
+                     const std::vector<bool>& active, Eigen::VectorXd& x, Eigen::VectorXd& lambda) {
+  const int bins = int(g.cols()), rows = int(g.rows());
+  std::vector<int> free_index(bins, -1);
+  int free_count = 0;
+  for (int i = 0; i < bins; ++i)
+    if (!active[i]) free_index[i] = free_count++;
+  if (free_count < rows) return false;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int j = 0; j < q.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(q, j); it; ++it)
+      if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
+        entries.emplace_back(free_index[it.row()], free_index[it.col()], 2 * it.value());
+  for (int n = 0; n < rows; ++n)
+    for (int i = 0; i < bins; ++i)
+      if (free_index[i] >= 0) {
+        entries.emplace_back(free_count + n, free_index[i], g(n, i));
+        entries.emplace_back(free_index[i], free_count + n, g(n, i));
+      }
+  Eigen::SparseMatrix<double> kkt(free_count + rows, free_count + rows);
+  kkt.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  lu.compute(kkt);
+  if (lu.info() != Eigen::Success) return false;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count + rows);
+  rhs.tail(rows) = target;
+  const Eigen::VectorXd solution = lu.solve(rhs);
+  if (lu.info() != Eigen::Success || !solution.allFinite()) return false;
+  x = Eigen::VectorXd::Zero(bins);
+  for (int i = 0; i < bins; ++i)
+    if (free_index[i] >= 0) x[i] = solution[free_index[i]];
+  lambda = solution.tail(rows);
+  return (g * x - target).cwiseAbs().maxCoeff() <= kMomentTolerance;
+}
+
+// Makes the interior-point solution exact on its active set, by a primal active-set method started
+// from it (Nocedal and Wright, Algorithm 16.3): bins below kActiveGuess start at 0; each step solves
+// the KKT system on the free bins and moves toward that solution as far as x >= 0 allows, a bin
+// that reaches 0 on the way joins the active set; at the solution of a set, the active bin with the
+// most negative multiplier mu_i = (2 Q x + G^T lambda)_i (the objective would fall if it rose)
+// leaves it. It ends when every multiplier of the active set is >= 0 (to kKktTolerance): every zero
+// bin is then exactly 0, and the support is a property of the problem, not of the solver's
+// tolerance. False if it does not converge.
+bool refineOnActiveSet(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
+                       Eigen::VectorXd& x) {
+  const int bins = int(x.size());
+  std::vector<bool> active(bins);
+  for (int i = 0; i < bins; ++i) {
+    active[i] = x[i] < kActiveGuess;
+    if (active[i]) x[i] = 0;
   }
-  if (positive.empty()) return false;
-  Eigen::MatrixXd gp(g.rows(), Eigen::Index(positive.size()));
-  for (std::size_t j = 0; j < positive.size(); ++j) gp.col(Eigen::Index(j)) = g.col(positive[j]);
-  const Eigen::VectorXd residual = target - g * x;
-  const Eigen::VectorXd correction = gp.transpose() * (gp * gp.transpose()).ldlt().solve(residual);
-  for (std::size_t j = 0; j < positive.size(); ++j) x[positive[j]] += correction[Eigen::Index(j)];
-  return x.minCoeff() >= 0;
+  Eigen::VectorXd solution, lambda;
+  for (int step = 0; step < 4 * bins; ++step) {
+    if (!solveOnFreeBins(q, g, target, active, solution, lambda)) return false;
+    double length = 1;  // of the step toward the solution that keeps x >= 0
+    int blocking = -1;
+    for (int i = 0; i < bins; ++i) {
+      const double p = solution[i] - x[i];
+      if (!active[i] && solution[i] < -kKktTolerance && x[i] < length * -p) {
+        length = x[i] / -p;
+        blocking = i;
+      }
+    }
+    if (blocking >= 0) {
+      for (int i = 0; i < bins; ++i)
+        if (!active[i]) x[i] += length * (solution[i] - x[i]);
+      x[blocking] = 0;
+      active[blocking] = true;
+      continue;
+    }
+    const Eigen::VectorXd mu = 2 * (q * solution) + g.transpose() * lambda;
+    int leaving = -1;
+    for (int i = 0; i < bins; ++i)
+      if (active[i] && mu[i] < -kKktTolerance && (leaving < 0 || mu[i] < mu[leaving])) leaving = i;
+    x = solution.cwiseMax(0.0);  // free bins within rounding of 0 are 0
+    if (leaving < 0) return true;
+    active[leaving] = false;
+  }
+  return false;
 }
 
 }  // namespace
@@ -92,11 +173,12 @@ PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_mome
   const int order = int(target_moments.size()) - 1;
   if (order < 0 || bins < order + 3) throw std::invalid_argument("solveAlteredPhaseTable: need moments and more bins than moments + 2");
   const Eigen::MatrixXd g = scaledMomentMatrix(bins, order);
+  const Eigen::SparseMatrix<double> q = poissonQuadraticTerm(bins);
   Eigen::VectorXd target(order + 1);
   for (int n = 0; n <= order; ++n) target[n] = target_moments[n];
   PhaseTableSolution solution;
-  Eigen::VectorXd x = solveQp(g, target, solution.termination);
-  const bool polished = solution.termination > 0 && polish(g, target, x);
+  Eigen::VectorXd x = solveQp(q, g, target, solution.termination);
+  const bool polished = solution.termination > 0 && refineOnActiveSet(q, g, target, x);
   solution.moment_residual = (g * x - target).cwiseAbs().maxCoeff();
   solution.feasible = polished && solution.moment_residual <= kMomentTolerance;
   solution.table.resize(bins);

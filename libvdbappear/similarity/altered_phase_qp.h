@@ -1,6 +1,7 @@
 #pragma once
 // The altered phase function as a table (§5.2 of the similarity paper): the quadratic program of
-// Eq. (31), solved with ALGLIB's interior-point QP solver. Light header.
+// Eq. (31), solved with ALGLIB's interior-point QP solver and made exact on its active set. Light
+// header.
 
 #include <vector>
 
@@ -15,12 +16,16 @@ struct PhaseTableSolution {
 
 // Eq. (31): min |S c|^2 subject to c >= 0 and G c = f*, with the boxcar basis of Eq. (30) on `bins`
 // bins, G of Eq. (28)-(29) for the moments given (f*_0 = 1 .. f*_N) and S the (k-2) x k second
-// difference ("1D Poisson") matrix. Values below kZeroBin (relative to the isotropic 1 / (4 pi))
-// are set to 0 and the moment constraints are then re-imposed on the positive bins by the least-norm
-// correction, so that zero bins are exactly zero and the moments hold to rounding. feasible is
-// false when the solver reports infeasibility or the result misses a moment by more than
+// difference ("1D Poisson") matrix. The interior-point solution is then made exact on its active
+// set: the bins at 0 are exactly 0, the others solve the equality-constrained problem, and the
+// multipliers of the zero bins are non-negative (the KKT conditions, to kKktTolerance), so that the
+// support of the table is that of the problem's unique optimum. Bins below kActiveGuess (relative
+// to the isotropic 1 / (4 pi)) start in the active set: a start only, which sets the number of
+// steps (1e-4 measured fastest), not the result. feasible is false when the solver reports
+// infeasibility, the active-set step does not converge, or the result misses a moment by more than
 // kMomentTolerance.
-inline constexpr double kZeroBin = 1e-7;
+inline constexpr double kActiveGuess = 1e-4;
+inline constexpr double kKktTolerance = 1e-11;
 inline constexpr double kMomentTolerance = 1e-7;
 PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins);
 

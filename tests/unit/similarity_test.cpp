@@ -9,9 +9,12 @@
 #include "libvdbappear/similarity/moment_existence.h"
 #include "libvdbappear/similarity/similarity_relation.h"
 
+#include <Eigen/Dense>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <libalglib/optimization.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -329,5 +332,148 @@ TEST(GQuantiser, EveryMomentMovesByAtMostTheTolerance) {
     }
     EXPECT_LE(worst, tolerance) << tolerance;
     EXPECT_GT(worst, 0.5 * tolerance) << "the levels should not be much finer than needed";
+  }
+}
+
+namespace {
+
+// What every table of Eq. (31) is checked against, built here from the paper's definitions rather
+// than taken from the solver: x = 4 pi c (isotropic x = 1), G scaled alike, Q = S^T S.
+struct QpProblem {
+  Eigen::MatrixXd g;       // (N+1) x k
+  Eigen::MatrixXd q;       // k x k
+  Eigen::VectorXd target;  // f*_0 .. f*_N
+};
+
+QpProblem qpProblem(const std::vector<double>& moments, int bins) {
+  const int order = int(moments.size()) - 1;
+  const std::vector<double> g = binMomentMatrix(bins, order);
+  QpProblem p{Eigen::MatrixXd(order + 1, bins), Eigen::MatrixXd::Zero(bins, bins), Eigen::VectorXd(order + 1)};
+  for (int n = 0; n <= order; ++n) {
+    for (int i = 0; i < bins; ++i) p.g(n, i) = g[std::size_t(n) * bins + i] / (4 * kPi);
+    p.target[n] = moments[n];
+  }
+  Eigen::MatrixXd s = Eigen::MatrixXd::Zero(bins - 2, bins);
+  for (int r = 0; r + 2 < bins; ++r) s.row(r).segment(r, 3) << -1, 2, -1;
+  p.q = s.transpose() * s;
+  return p;
+}
+
+// The KKT conditions of min x^T Q x, G x = t, x >= 0 at the table's x: primal feasibility,
+// stationarity on the positive bins (2 Q x + G^T lambda = 0 there, lambda by least squares) and
+// non-negative multipliers mu = 2 Q x + G^T lambda on the zero bins; complementarity holds by
+// construction (mu = 0 where x > 0, x = 0 where mu may be positive). Returns the worst violation.
+double kktViolation(const QpProblem& p, const std::vector<double>& table) {
+  const int bins = int(table.size());
+  Eigen::VectorXd x(bins);
+  for (int i = 0; i < bins; ++i) x[i] = 4 * kPi * table[i];
+  double worst = std::max(0.0, -x.minCoeff());
+  worst = std::max(worst, (p.g * x - p.target).cwiseAbs().maxCoeff());
+  std::vector<int> positive;
+  for (int i = 0; i < bins; ++i)
+    if (x[i] > 0) positive.push_back(i);
+  const Eigen::VectorXd gradient = 2 * p.q * x;
+  Eigen::MatrixXd gt(positive.size(), p.g.rows());
+  Eigen::VectorXd rhs(positive.size());
+  for (std::size_t r = 0; r < positive.size(); ++r) {
+    gt.row(Eigen::Index(r)) = p.g.col(positive[r]).transpose();
+    rhs[Eigen::Index(r)] = -gradient[positive[r]];
+  }
+  const Eigen::VectorXd lambda = gt.colPivHouseholderQr().solve(rhs);
+  worst = std::max(worst, (gt * lambda - rhs).cwiseAbs().maxCoeff());
+  const Eigen::VectorXd mu = gradient + p.g.transpose() * lambda;
+  for (int i = 0; i < bins; ++i)
+    if (x[i] == 0) worst = std::max(worst, -mu[i]);
+  return worst;
+}
+
+// An independent exact solve of Eq. (31): ALGLIB's dense active-set solver (BLEIC), whose bins at
+// their bound are exactly 0. Returns the number of positive bins.
+int activeSetSupportBins(const QpProblem& p) {
+  const int bins = int(p.g.cols()), rows = int(p.g.rows());
+  alglib::minqpstate state;
+  alglib::minqpcreate(bins, state);
+  alglib::real_2d_array a;
+  a.setlength(bins, bins);
+  for (int i = 0; i < bins; ++i)
+    for (int j = 0; j < bins; ++j) a(i, j) = 2 * p.q(i, j);
+  alglib::minqpsetquadraticterm(state, a, true);
+  alglib::real_2d_array c;
+  c.setlength(rows, bins + 1);
+  alglib::integer_1d_array types;
+  types.setlength(rows);
+  for (int n = 0; n < rows; ++n) {
+    for (int i = 0; i < bins; ++i) c(n, i) = p.g(n, i);
+    c(n, bins) = p.target[n];
+    types[n] = 0;
+  }
+  alglib::minqpsetlc(state, c, types);
+  alglib::minqpsetbcall(state, 0.0, alglib::fp_posinf);
+  alglib::real_1d_array start;
+  start.setlength(bins);
+  for (int i = 0; i < bins; ++i) start[i] = 1;
+  alglib::minqpsetstartingpoint(state, start);
+  alglib::minqpsetalgobleic(state, 0, 0, 1e-13, 0);
+  alglib::minqpoptimize(state);
+  alglib::real_1d_array x;
+  alglib::minqpreport report;
+  alglib::minqpresults(state, x, report);
+  EXPECT_GT(report.terminationtype, 0);
+  int positive = 0;
+  for (int i = 0; i < bins; ++i) positive += x[i] > 0;
+  return positive;
+}
+
+// Mixture C of the Fig. 9 experiment: 0.9 HG(0.8737) + 0.1 HG(-0.3).
+std::vector<double> mixtureCMoments(int order) {
+  const std::vector<double> a = henyeyGreensteinMoments(0.8737, order), b = henyeyGreensteinMoments(-0.3, order);
+  std::vector<double> m(order + 1);
+  for (int n = 0; n <= order; ++n) m[n] = 0.9 * a[n] + 0.1 * b[n];
+  return m;
+}
+
+std::vector<double> firstN(std::vector<double> moments, int order) {
+  moments.resize(std::size_t(order) + 1);
+  return moments;
+}
+
+}  // namespace
+
+// Every table the QP returns is its exact optimum: the KKT conditions hold to 1e-9 for HG inputs,
+// Eq. 33 and mixture C at orders 1 to 5, and for random feasible moment sequences.
+TEST(AlteredPhaseQp, EveryTableSatisfiesTheKktConditions) {
+  std::vector<std::vector<double>> problems;
+  const std::vector<double> eq33 = tablePhaseMoments(gkioulekasTable(3600), 5).moments;
+  for (int order = 1; order <= 5; ++order) {
+    for (double g : {0.5, 0.9, 0.95})
+      for (double alpha : {0.3, std::max(0.3, 1 - g)})
+        problems.push_back(alteredMoments(henyeyGreensteinMoments(g, order), alpha));
+    for (double alpha : {0.3, 1 - eq33[1]}) problems.push_back(alteredMoments(firstN(eq33, order), alpha));
+    problems.push_back(alteredMoments(mixtureCMoments(order), 0.3));
+  }
+  for (auto& f : randomMomentSequences(60, 4, 17)) problems.push_back(f);
+  int solved = 0;
+  for (const std::vector<double>& f : problems) {
+    const PhaseTableSolution s = solveAlteredPhaseTable(f, 360);
+    if (!s.feasible) continue;
+    EXPECT_LE(kktViolation(qpProblem(f, 360), s.table), 1e-9) << "order " << f.size() - 1 << " f1 " << f[1];
+    ++solved;
+  }
+  EXPECT_GE(solved, 70);  // 73: the infeasible ones lie outside the moment space (Theorem 1)
+}
+
+// The supports that decide Algorithm 1 (§7.3) are those of the exact optimum: Eq. 33 at orders 4 and
+// 5 (alpha = 1 - f1) and mixture C at order 3 (alpha 0.3) against an independent active-set solve.
+TEST(AlteredPhaseQp, SupportsAgreeWithAnIndependentActiveSetSolve) {
+  const std::vector<double> eq33 = tablePhaseMoments(gkioulekasTable(3600), 5).moments;
+  const std::vector<std::vector<double>> problems = {alteredMoments(firstN(eq33, 4), 1 - eq33[1]),
+                                                     alteredMoments(eq33, 1 - eq33[1]),
+                                                     alteredMoments(mixtureCMoments(3), 0.3)};
+  for (const std::vector<double>& f : problems) {
+    const PhaseTableSolution s = solveAlteredPhaseTable(f, 360);
+    ASSERT_TRUE(s.feasible);
+    const int bins = int(std::count_if(s.table.begin(), s.table.end(), [](double v) { return v > 0; }));
+    EXPECT_EQ(bins, activeSetSupportBins(qpProblem(f, 360))) << "order " << f.size() - 1;
+    EXPECT_DOUBLE_EQ(tableSupport(s.table), bins / 360.0);
   }
 }
