@@ -50,7 +50,8 @@ struct Options {
 
 nlohmann::json rejectedJson(const std::vector<RejectedOrder>& rejected) {
   nlohmann::json list = nlohmann::json::array();
-  for (const RejectedOrder& r : rejected) list.push_back({{"order", r.order}, {"support", r.support}, {"reason", r.reason}});
+  for (const RejectedOrder& r : rejected)
+    list.push_back({{"order", r.order}, {"support", r.support}, {"distance", r.distance}, {"reason", r.reason}});
   return list;
 }
 
@@ -62,6 +63,8 @@ nlohmann::json alteredPhaseJson(const AlteredPhase& a, const SimilarityOptions& 
           {"input_support", a.input_support},
           {"support_ratio", o.support_ratio},
           {"support_below_threshold", a.support_below_threshold},
+          {"order_rule", orderRuleName(o.order_rule)},
+          {"distance", a.distance},
           {"max_order", o.max_order},
           {"existence_margins", a.existence_margins},
           {"rejected", rejectedJson(a.rejected)},
@@ -101,7 +104,7 @@ nlohmann::json tablesJson(const std::vector<AlteredTable>& tables) {
   for (std::size_t t = 0; t < tables.size(); ++t) {
     const AlteredTable& a = tables[t];
     list.push_back({{"id", t}, {"source", a.source}, {"f1", a.f1}, {"voxels", a.voxels}, {"alpha", a.phase.alpha},
-                    {"order", a.phase.order}, {"support", a.phase.support},
+                    {"order", a.phase.order}, {"support", a.phase.support}, {"distance", a.phase.distance},
                     {"support_below_threshold", a.phase.support_below_threshold}, {"rejected", rejectedJson(a.phase.rejected)}});
   }
   return list;
@@ -148,6 +151,7 @@ int alterMediumFile(const Options& options, const std::string& history) {
                            {"alpha_option", o.alpha > 0 ? nlohmann::json(o.alpha) : nlohmann::json("max(0.3, 1 - f1)")},
                            {"max_order", o.max_order},
                            {"support_ratio", o.support_ratio},
+                           {"order_rule", orderRuleName(o.order_rule)},
                            {"bins", o.bins},
                            {"voxels", result.voxels},
                            {"g_levels", result.g_levels},
@@ -171,6 +175,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", kVersion);
   Options options;
   SimilarityOptions& o = options.medium.phase;
+  std::string order_rule = orderRuleName(o.order_rule);
   auto* in = app.add_option("IN", options.input, "input medium (.vdb); - reads a VDB stream from stdin");
   app.add_option("OUT", options.output, "output medium (.vdb); - writes a VDB stream to stdout");
   auto* hg = app.add_option("--hg", options.hg_g, "one material: a Henyey-Greenstein phase function with this g")
@@ -186,6 +191,11 @@ int main(int argc, char** argv) {
   app.add_option("--support-ratio", o.support_ratio, "beta of §7.3: reject a table with less support than beta times the original's")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app.add_option("--order-rule", order_rule,
+                 "how the order is chosen: support (Algorithm 1: the highest order not overfitting, §7.3) or distance "
+                 "(the order whose f* is closest to f in the Wasserstein-1 distance; docs/similarity.md)")
+      ->check(CLI::IsMember({"support", "distance"}))
+      ->capture_default_str();
   app.add_option("--bins", o.bins, "k: bins of the altered tables (Eq. 30)")->check(CLI::Range(16, 4096))->capture_default_str();
   app.add_option("--moment-tolerance", options.medium.moment_tolerance,
                  "per-voxel hg_g: quantise g so that every Legendre moment up to N0 moves by at most this")
@@ -199,6 +209,7 @@ int main(int argc, char** argv) {
   const std::string history = historyLine(kTool, argc, argv);
   return tool::run(app, argc, argv, [&] {
     threads.apply();
+    o.order_rule = parseOrderRule(order_rule);
     const bool one_phase = options.hg_g || !options.table_file.empty();
     if (one_phase) {
       if (!options.report.empty()) throw std::invalid_argument("--report is for media; --json prints the one-material result");

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <libalglib/optimization.h>
 
@@ -86,6 +87,28 @@ Eigen::VectorXd solveQp(const Eigen::SparseMatrix<double>& q, const Eigen::Matri
 //   [G_F     0    ] [lambda] = [t],
 // solved sparsely (Q is pentadiagonal, G has N + 1 rows). False when it is singular (G_F without
 // full row rank: too few free bins for the moments).
+constexpr double kRegularisation = 1e-14;
+
+// The KKT system by a sparse LDL^T of its quasi-definite neighbour (+delta on the bins, -delta on
+// the multipliers), which factorises in any order (Vanderbei 1995), with iterative refinement
+// against the exact system. Only where Q_FF is positive definite, i.e. at least two bins are held
+// at 0 (Q's null space, the linear tables, then vanishes on the free bins); false otherwise or if
+// the refined residual stays above rounding, and the caller uses a sparse LU.
+bool solveQuasiDefinite(const Eigen::SparseMatrix<double>& kkt, int free_count, const Eigen::VectorXd& rhs,
+                        Eigen::VectorXd& solution) {
+  Eigen::SparseMatrix<double> shifted = kkt;
+  for (int i = 0; i < kkt.rows(); ++i) shifted.coeffRef(i, i) += i < free_count ? kRegularisation : -kRegularisation;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
+  if (ldlt.info() != Eigen::Success) return false;
+  solution = ldlt.solve(rhs);
+  for (int refinement = 0; refinement < 4; ++refinement) {
+    const Eigen::VectorXd residual = rhs - kkt * solution;
+    if (residual.cwiseAbs().maxCoeff() <= 1e-14) return solution.allFinite();
+    solution += ldlt.solve(residual);
+  }
+  return solution.allFinite() && (rhs - kkt * solution).cwiseAbs().maxCoeff() <= 1e-13;
+}
+
 bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
                      const std::vector<bool>& active, Eigen::VectorXd& x, Eigen::VectorXd& lambda) {
   const int bins = int(g.cols()), rows = int(g.rows());
@@ -107,13 +130,16 @@ bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd
       }
   Eigen::SparseMatrix<double> kkt(free_count + rows, free_count + rows);
   kkt.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-  lu.compute(kkt);
-  if (lu.info() != Eigen::Success) return false;
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count + rows);
   rhs.tail(rows) = target;
-  const Eigen::VectorXd solution = lu.solve(rhs);
-  if (lu.info() != Eigen::Success || !solution.allFinite()) return false;
+  Eigen::VectorXd solution;
+  if (bins - free_count < 2 || !solveQuasiDefinite(kkt, free_count, rhs, solution)) {
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(kkt);
+    if (lu.info() != Eigen::Success) return false;
+    solution = lu.solve(rhs);
+    if (lu.info() != Eigen::Success) return false;
+  }
+  if (!solution.allFinite()) return false;
   x = Eigen::VectorXd::Zero(bins);
   for (int i = 0; i < bins; ++i)
     if (free_index[i] >= 0) x[i] = solution[free_index[i]];

@@ -3,6 +3,7 @@
 #include "libvdbappear/similarity/altered_phase_qp.h"
 #include "libvdbappear/similarity/legendre_moments.h"
 #include "libvdbappear/similarity/moment_existence.h"
+#include "libvdbappear/similarity/order_distance.h"
 
 #include <fmt/format.h>
 
@@ -11,12 +12,25 @@
 
 namespace vdbappear {
 
-PhaseMoments henyeyGreensteinPhaseMoments(double g, int max_order) { return {henyeyGreensteinMoments(g, max_order), 1.0}; }
+// The resolution of an analytic phase function's CDF for the distance rule: ten times the QP's bins.
+constexpr int kDistanceBins = 3600;
+
+PhaseMoments henyeyGreensteinPhaseMoments(double g, int max_order) {
+  return {henyeyGreensteinMoments(g, max_order), 1.0, tableCdf(tabulateHenyeyGreenstein(g, kDistanceBins))};
+}
 
 PhaseMoments tablePhaseMoments(const std::vector<double>& table, int max_order) {
   const std::vector<double> normalised = normalisedTable(table);
-  return {tableMoments(normalised, max_order), tableSupport(normalised)};
+  return {tableMoments(normalised, max_order), tableSupport(normalised), tableCdf(normalised)};
 }
+
+OrderRule parseOrderRule(const std::string& name) {
+  if (name == "support") return OrderRule::kSupport;
+  if (name == "distance") return OrderRule::kDistance;
+  throw std::invalid_argument("--order-rule '" + name + "': expected support or distance");
+}
+
+const char* orderRuleName(OrderRule rule) { return rule == OrderRule::kSupport ? "support" : "distance"; }
 
 double defaultAlpha(double f1) { return std::min(1.0, std::max(0.3, 1 - f1)); }
 
@@ -47,27 +61,14 @@ void checkInputs(const PhaseMoments& phase, const SimilarityOptions& options, do
         alpha, minimumAlpha(f1), minimumAlpha(f1), f1));
 }
 
-}  // namespace
+std::string noTable(const SimilarityOptions& options, const PhaseTableSolution& solution) {
+  return fmt::format("no table on {} bins satisfies the moments (QP code {})", options.bins, solution.termination);
+}
 
-AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options) {
-  AlteredPhase result;
-  result.alpha = options.alpha > 0 ? options.alpha : defaultAlpha(phase.moments.at(1));
-  checkInputs(phase, options, result.alpha);
-  result.input_support = phase.support;
-  const std::vector<double> altered = alteredMoments(firstMoments(phase.moments, options.max_order), result.alpha);
-
-  // Lines 4-10: the highest order whose relations are satisfiable (order 1 is, by checkInputs).
-  int order = 1;
-  result.existence_margins.push_back(checkMomentsExist(firstMoments(altered, 1)).margin);
-  while (order < options.max_order) {
-    const MomentExistence next = checkMomentsExist(firstMoments(altered, order + 1));
-    result.existence_margins.push_back(next.margin);
-    if (!next.exists) break;
-    ++order;
-  }
-
-  // Lines 11-14: solve, stepping down while the table overfits (or the QP finds none at k bins).
-  // When every order overfits, the widest table wins (ties: the higher order).
+// Lines 11-14: solve, stepping down while the table overfits (or the QP finds none at k bins).
+// When every order overfits, the widest table wins (ties: the higher order).
+AlteredPhase firstOrderNotOverfitting(const PhaseMoments& phase, const SimilarityOptions& options,
+                                      const std::vector<double>& altered, int order, AlteredPhase result) {
   const double min_support = options.support_ratio * phase.support;
   AlteredPhase widest;
   for (; order >= 1; --order) {
@@ -87,10 +88,10 @@ AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOpti
       result.support = support;
       return result;
     }
-    result.rejected.push_back(
-        {order, support,
-         solution.feasible ? fmt::format("support {:.3f} < {:g} x {:.3f} (overfitting, §7.3)", support, options.support_ratio, phase.support)
-                           : fmt::format("no table on {} bins satisfies the moments (QP code {})", options.bins, solution.termination)});
+    result.rejected.push_back({order, support, 0.0,
+                               solution.feasible ? fmt::format("support {:.3f} < {:g} x {:.3f} (overfitting, §7.3)", support,
+                                                               options.support_ratio, phase.support)
+                                                 : noTable(options, solution)});
   }
   if (widest.order == 0) throw std::runtime_error("the QP of Eq. (31) found no table at any order; try more bins");
   result.order = widest.order;
@@ -102,6 +103,60 @@ AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOpti
                                       [&](const RejectedOrder& r) { return r.order == result.order; }),
                         result.rejected.end());
   return result;
+}
+
+// The distance rule: from the highest order down, while the next lower order's table is closer to f.
+AlteredPhase closestOrder(const PhaseMoments& phase, const SimilarityOptions& options, const std::vector<double>& altered,
+                          int order, AlteredPhase result) {
+  if (phase.cdf.size() < 2) throw std::invalid_argument("the distance rule needs the phase function's CDF");
+  for (; order >= 1; --order) {
+    const std::vector<double> target = firstMoments(altered, order);
+    PhaseTableSolution solution = solveAlteredPhaseTable(target, options.bins);
+    if (!solution.feasible) {
+      result.rejected.push_back({order, 0.0, 0.0, noTable(options, solution)});
+      continue;
+    }
+    const double distance = similarityDistance(phase.cdf, solution.table, result.alpha);
+    const double support = tableSupport(solution.table);
+    if (result.order != 0 && distance >= result.distance) {
+      result.rejected.push_back({order, support, distance,
+                                 fmt::format("distance {:.4f} >= {:.4f} of order {}", distance, result.distance, result.order)});
+      break;
+    }
+    if (result.order != 0)
+      result.rejected.push_back({result.order, result.support, result.distance,
+                                 fmt::format("distance {:.4f} > {:.4f} of order {}", result.distance, distance, order)});
+    result.order = order;
+    result.moments = target;
+    result.table = std::move(solution.table);
+    result.support = support;
+    result.distance = distance;
+  }
+  if (result.order == 0) throw std::runtime_error("the QP of Eq. (31) found no table at any order; try more bins");
+  return result;
+}
+
+}  // namespace
+
+AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options) {
+  AlteredPhase result;
+  result.alpha = options.alpha > 0 ? options.alpha : defaultAlpha(phase.moments.at(1));
+  checkInputs(phase, options, result.alpha);
+  result.input_support = phase.support;
+  const std::vector<double> altered = alteredMoments(firstMoments(phase.moments, options.max_order), result.alpha);
+
+  // Lines 4-10: the highest order whose relations are satisfiable (order 1 is, by checkInputs).
+  int order = 1;
+  result.existence_margins.push_back(checkMomentsExist(firstMoments(altered, 1)).margin);
+  while (order < options.max_order) {
+    const MomentExistence next = checkMomentsExist(firstMoments(altered, order + 1));
+    result.existence_margins.push_back(next.margin);
+    if (!next.exists) break;
+    ++order;
+  }
+
+  return options.order_rule == OrderRule::kDistance ? closestOrder(phase, options, altered, order, std::move(result))
+                                                     : firstOrderNotOverfitting(phase, options, altered, order, std::move(result));
 }
 
 }  // namespace vdbappear

@@ -74,6 +74,20 @@ TEST(SimilarityCli, OneMaterialPrintsTheAlteredPhaseFunctionAsJson) {
   EXPECT_EQ(j.at("rejected").size(), 2u);
 }
 
+// --order-rule distance (docs/similarity.md §1): the distances of the orders it passed over are in
+// the JSON, each no smaller than the chosen one's.
+TEST(SimilarityCli, DistanceRuleReportsItsDistances) {
+  const auto r = runCommand(kSimilarity + " --hg 0.9 --order-rule distance --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j.at("order_rule").get<std::string>(), "distance");
+  EXPECT_EQ(j.at("order").get<int>(), 3);
+  const double distance = j.at("distance").get<double>();
+  EXPECT_GT(distance, 0);
+  ASSERT_EQ(j.at("rejected").size(), 3u);  // 5 and 4 passed over on the way down, 2 stopped the search
+  for (const json& rejected : j.at("rejected")) EXPECT_GE(rejected.at("distance").get<double>(), distance);
+}
+
 TEST(SimilarityCli, TableFilesInJsonOrTextGiveTheSameResult) {
   TempDir dir;
   const std::vector<double> hg = tabulateHenyeyGreenstein(0.8, 720);
@@ -147,6 +161,7 @@ TEST(SimilarityCli, BadInputFailsWithOneLineAndNoOutput) {
       {"--table " + quote(dir.path("none.txt")), "none.txt: cannot open"},
       {"--hg 0.9 --table " + quote(dir.path("negative.txt")), "excludes"},
       {quote(cloud) + " " + quote(out) + " --bins 4", "--bins"},
+      {quote(cloud) + " " + quote(out) + " --order-rule closest", "--order-rule"},
   };
   for (const Case& c : cases) {
     const auto r = runCommand(kSimilarity + " " + c.args);

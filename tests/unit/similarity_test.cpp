@@ -7,6 +7,7 @@
 #include "libvdbappear/similarity/g_quantiser.h"
 #include "libvdbappear/similarity/legendre_moments.h"
 #include "libvdbappear/similarity/moment_existence.h"
+#include "libvdbappear/similarity/order_distance.h"
 #include "libvdbappear/similarity/similarity_relation.h"
 
 #include <Eigen/Dense>
@@ -476,4 +477,39 @@ TEST(AlteredPhaseQp, SupportsAgreeWithAnIndependentActiveSetSolve) {
     EXPECT_EQ(bins, activeSetSupportBins(qpProblem(f, 360))) << "order " << f.size() - 1;
     EXPECT_DOUBLE_EQ(tableSupport(s.table), bins / 360.0);
   }
+}
+
+// The distance of an order (order_distance.h): zero for the input itself at alpha 1; for an
+// isotropic f and an isotropic f* at alpha 0.5, W1 = integral of |F - F/2| = 1/2 (F(mu) = (mu+1)/2);
+// the same whatever the two grids' resolutions.
+TEST(OrderDistance, MatchesClosedForms) {
+  const std::vector<double> isotropic(360, 1 / (4 * kPi)), fine(3600, 1 / (4 * kPi));
+  EXPECT_NEAR(similarityDistance(tableCdf(isotropic), isotropic, 1.0), 0.0, 1e-14);
+  EXPECT_NEAR(similarityDistance(tableCdf(fine), isotropic, 0.5), 0.5, 1e-12);
+  const std::vector<double> hg = tabulateHenyeyGreenstein(0.8, 360);
+  EXPECT_NEAR(similarityDistance(tableCdf(hg), hg, 1.0), 0.0, 1e-14);
+  EXPECT_GT(similarityDistance(tableCdf(hg), isotropic, 1.0), 0.1);  // negative control: HG(0.8) is not isotropic
+}
+
+// The distance rule (issue 27) at alpha 0.3: mixture C, where order 3 renders three times worse than
+// order 1 (docs/similarity.md §4), takes order 1; Eq. 33, where order 5 is best and the support rule
+// falls back to order 1, takes order 5; HG(0.9) takes order 3, as the support rule does.
+TEST(AlteredPhase, DistanceRuleTakesTheClosestOrder) {
+  SimilarityOptions options;
+  options.alpha = 0.3;
+  options.order_rule = OrderRule::kDistance;
+  std::vector<double> c_table = tabulateHenyeyGreenstein(0.8737, 3600), back = tabulateHenyeyGreenstein(-0.3, 3600);
+  for (std::size_t i = 0; i < c_table.size(); ++i) c_table[i] = 0.9 * c_table[i] + 0.1 * back[i];
+  const AlteredPhase c = computeAlteredPhase(tablePhaseMoments(c_table, 5), options);
+  EXPECT_EQ(c.order, 1);
+  const AlteredPhase eq33 = computeAlteredPhase(tablePhaseMoments(gkioulekasTable(3600), 5), options);
+  EXPECT_EQ(eq33.order, 5);
+  const AlteredPhase hg = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), options);
+  EXPECT_EQ(hg.order, 3);
+  for (const AlteredPhase* a : {&c, &eq33, &hg})
+    for (const RejectedOrder& r : a->rejected)
+      if (r.distance > 0) EXPECT_GE(r.distance, a->distance) << "order " << r.order;
+  options.order_rule = OrderRule::kSupport;  // control: Algorithm 1 as printed
+  EXPECT_EQ(computeAlteredPhase(tablePhaseMoments(c_table, 5), options).order, 3);
+  EXPECT_EQ(computeAlteredPhase(tablePhaseMoments(gkioulekasTable(3600), 5), options).order, 1);
 }
