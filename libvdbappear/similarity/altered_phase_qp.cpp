@@ -81,12 +81,6 @@ Eigen::VectorXd solveQp(const Eigen::SparseMatrix<double>& q, const Eigen::Matri
   return result;
 }
 
-// The exact optimum of Eq. (31) with the bins of `active` held at 0: the KKT system of the
-// equality-constrained problem on the free bins F,
-//   [2 Q_FF  G_F^T] [x_F   ]   [0]
-//   [G_F     0    ] [lambda] = [t],
-// solved sparsely (Q is pentadiagonal, G has N + 1 rows). False when it is singular (G_F without
-// full row rank: too few free bins for the moments).
 constexpr double kRegularisation = 1e-14;
 
 // The KKT system by a sparse LDL^T of its quasi-definite neighbour (+delta on the bins, -delta on
@@ -109,14 +103,10 @@ bool solveQuasiDefinite(const Eigen::SparseMatrix<double>& kkt, int free_count, 
   return solution.allFinite() && (rhs - kkt * solution).cwiseAbs().maxCoeff() <= 1e-13;
 }
 
-bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
-                     const std::vector<bool>& active, Eigen::VectorXd& x, Eigen::VectorXd& lambda) {
+// The KKT matrix of the free bins (free_index[i]: bin i's row, -1 for a bin held at 0).
+Eigen::SparseMatrix<double> kktMatrix(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g,
+                                      const std::vector<int>& free_index, int free_count) {
   const int bins = int(g.cols()), rows = int(g.rows());
-  std::vector<int> free_index(bins, -1);
-  int free_count = 0;
-  for (int i = 0; i < bins; ++i)
-    if (!active[i]) free_index[i] = free_count++;
-  if (free_count < rows) return false;
   std::vector<Eigen::Triplet<double>> entries;
   for (int j = 0; j < q.outerSize(); ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(q, j); it; ++it)
@@ -130,6 +120,24 @@ bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd
       }
   Eigen::SparseMatrix<double> kkt(free_count + rows, free_count + rows);
   kkt.setFromTriplets(entries.begin(), entries.end());
+  return kkt;
+}
+
+// The exact optimum of Eq. (31) with the bins of `active` held at 0: the KKT system of the
+// equality-constrained problem on the free bins F,
+//   [2 Q_FF  G_F^T] [x_F   ]   [0]
+//   [G_F     0    ] [lambda] = [t],
+// solved sparsely (Q is pentadiagonal, G has N + 1 rows). False when it is singular (G_F without
+// full row rank: too few free bins for the moments).
+bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
+                     const std::vector<bool>& active, Eigen::VectorXd& x, Eigen::VectorXd& lambda) {
+  const int bins = int(g.cols()), rows = int(g.rows());
+  std::vector<int> free_index(bins, -1);
+  int free_count = 0;
+  for (int i = 0; i < bins; ++i)
+    if (!active[i]) free_index[i] = free_count++;
+  if (free_count < rows) return false;
+  const Eigen::SparseMatrix<double> kkt = kktMatrix(q, g, free_index, free_count);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count + rows);
   rhs.tail(rows) = target;
   Eigen::VectorXd solution;
