@@ -23,7 +23,9 @@ class AreaLight final : public Light {
   bool isDelta() const override { return false; }
   bool isArea() const override { return true; }
   LightSample sample(const Vec3& p, const Point2& u) const override;
-  // Density of sample(p) over solid angle at light point y with unit normal n.
+  // Density of sample(p) over solid angle at light point y with unit normal n. Light's pdf(p, wi)
+  // stays visible beside it (0: an area light's density needs the point the direction hits).
+  using Light::pdf;
   double pdf(const Vec3& p, const Vec3& y, const Vec3& n) const;
   // Radiance leaving the light toward w_out (a unit vector from the surface) at a point with unit normal n.
   Rgb emitted(const Vec3& n, const Vec3& w_out) const;
