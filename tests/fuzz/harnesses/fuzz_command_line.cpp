@@ -74,12 +74,14 @@ bool leavesTheSandbox(const std::string& argument) {
   return argument.find('/') != std::string::npos || (!argument.empty() && argument.back() == '-');
 }
 
-// The runs that need no file: --help (or a short-flag cluster with h), --version, --list, and
+// The runs that need no file: help, the version and vdb_make_medium's list, however CLI11 finds
+// them in an argument (a short-flag cluster with h; "-v-version" prints the version), and
 // vdb_similarity --hg.
 bool needsNoFile(const std::string& tool, const std::vector<std::string>& arguments) {
   return std::any_of(arguments.begin(), arguments.end(), [&](const std::string& a) {
-    const bool short_cluster = a.size() > 1 && a[0] == '-' && a[1] != '-';
-    return a.rfind("--help", 0) == 0 || a.rfind("--version", 0) == 0 || a.rfind("--list", 0) == 0 ||
+    const bool option = !a.empty() && a[0] == '-', short_cluster = a.size() > 1 && option && a[1] != '-';
+    return (option && (a.find("help") != std::string::npos || a.find("version") != std::string::npos ||
+                       a.find("list") != std::string::npos)) ||
            (short_cluster && a.find('h') != std::string::npos) || (tool == "vdb_similarity" && a.rfind("--hg", 0) == 0);
   });
 }
