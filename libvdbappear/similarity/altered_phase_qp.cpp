@@ -1,11 +1,11 @@
 #include "libvdbappear/similarity/altered_phase_qp.h"
 
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/similarity/banded_kkt.h"
 #include "libvdbappear/similarity/legendre_moments.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <libalglib/optimization.h>
 
@@ -81,33 +81,13 @@ Eigen::VectorXd solveQp(const Eigen::SparseMatrix<double>& q, const Eigen::Matri
   return result;
 }
 
-constexpr double kRegularisation = 1e-14;
-
-// The KKT system by a sparse LDL^T of its quasi-definite neighbour (+delta on the bins, -delta on
-// the multipliers), which factorises in any order (Vanderbei 1995), with iterative refinement
-// against the exact system. Only where Q_FF is positive definite, i.e. at least two bins are held
-// at 0 (Q's null space, the linear tables, then vanishes on the free bins); false otherwise or if
-// the refined residual stays above rounding, and the caller uses a sparse LU.
-bool solveQuasiDefinite(const Eigen::SparseMatrix<double>& kkt, int free_count, const Eigen::VectorXd& rhs,
-                        Eigen::VectorXd& solution) {
-  Eigen::SparseMatrix<double> shifted = kkt;
-  for (int i = 0; i < kkt.rows(); ++i) shifted.coeffRef(i, i) += i < free_count ? kRegularisation : -kRegularisation;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(shifted);
-  if (ldlt.info() != Eigen::Success) return false;
-  solution = ldlt.solve(rhs);
-  for (int refinement = 0; refinement < 4; ++refinement) {
-    const Eigen::VectorXd residual = rhs - kkt * solution;
-    if (residual.cwiseAbs().maxCoeff() <= 1e-14) return solution.allFinite();
-    solution += ldlt.solve(residual);
-  }
-  return solution.allFinite() && (rhs - kkt * solution).cwiseAbs().maxCoeff() <= 1e-13;
-}
-
-// The KKT matrix of the free bins (free_index[i]: bin i's row, -1 for a bin held at 0).
+// The KKT matrix of the free bins (free_index[i]: bin i's row, -1 for a bin held at 0), for the
+// sparse LU that solveBandedKkt falls back to.
 Eigen::SparseMatrix<double> kktMatrix(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g,
                                       const std::vector<int>& free_index, int free_count) {
   const int bins = int(g.cols()), rows = int(g.rows());
   std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(std::size_t(5 * free_count + 2 * rows * free_count));
   for (int j = 0; j < q.outerSize(); ++j)
     for (Eigen::SparseMatrix<double>::InnerIterator it(q, j); it; ++it)
       if (free_index[it.row()] >= 0 && free_index[it.col()] >= 0)
@@ -123,35 +103,55 @@ Eigen::SparseMatrix<double> kktMatrix(const Eigen::SparseMatrix<double>& q, cons
   return kkt;
 }
 
+// 2 Q_FF, the Hessian of the free bins F (ascending): Q's bands where the free bins are neighbours.
+PentadiagonalMatrix freeBinsHessian(const Eigen::SparseMatrix<double>& q, const std::vector<int>& free_bins) {
+  const Eigen::Index n = Eigen::Index(free_bins.size());
+  PentadiagonalMatrix h{Eigen::VectorXd(n), Eigen::VectorXd::Zero(std::max<Eigen::Index>(n - 1, 0)),
+                        Eigen::VectorXd::Zero(std::max<Eigen::Index>(n - 2, 0))};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    h.diagonal[i] = 2 * q.coeff(free_bins[i], free_bins[i]);
+    if (i + 1 < n && free_bins[i + 1] - free_bins[i] <= 2) h.first[i] = 2 * q.coeff(free_bins[i], free_bins[i + 1]);
+    if (i + 2 < n && free_bins[i + 2] - free_bins[i] == 2) h.second[i] = 2 * q.coeff(free_bins[i], free_bins[i + 2]);
+  }
+  return h;
+}
+
 // The exact optimum of Eq. (31) with the bins of `active` held at 0: the KKT system of the
 // equality-constrained problem on the free bins F,
 //   [2 Q_FF  G_F^T] [x_F   ]   [0]
 //   [G_F     0    ] [lambda] = [t],
-// solved sparsely (Q is pentadiagonal, G has N + 1 rows). False when it is singular (G_F without
-// full row rank: too few free bins for the moments).
+// by solveBandedKkt (Q_FF is pentadiagonal, G has N + 1 rows), by a sparse LU where that fails.
+// False when it is singular (G_F without full row rank: too few free bins for the moments).
 bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
                      const std::vector<bool>& active, Eigen::VectorXd& x, Eigen::VectorXd& lambda) {
   const int bins = int(g.cols()), rows = int(g.rows());
-  std::vector<int> free_index(bins, -1);
-  int free_count = 0;
+  std::vector<int> free_bins;
   for (int i = 0; i < bins; ++i)
-    if (!active[i]) free_index[i] = free_count++;
+    if (!active[i]) free_bins.push_back(i);
+  const int free_count = int(free_bins.size());
   if (free_count < rows) return false;
-  const Eigen::SparseMatrix<double> kkt = kktMatrix(q, g, free_index, free_count);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count + rows);
-  rhs.tail(rows) = target;
-  Eigen::VectorXd solution;
-  if (bins - free_count < 2 || !solveQuasiDefinite(kkt, free_count, rhs, solution)) {
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(kkt);
+  Eigen::MatrixXd g_free(rows, free_count);
+  for (int i = 0; i < free_count; ++i) g_free.col(i) = g.col(free_bins[i]);
+  // Q_FF is positive definite once two bins are held at 0 (Q's null space, the linear tables, then
+  // vanishes on the free bins); else only the whole system is regular (G's first rows are the
+  // constant and the linear moment).
+  const double delta = bins - free_count >= 2 ? 1e-14 : 1e-8;
+  Eigen::VectorXd x_free;
+  if (!solveBandedKkt(freeBinsHessian(q, free_bins), g_free, Eigen::VectorXd::Zero(free_count), target, delta, x_free, lambda)) {
+    std::vector<int> free_index(bins, -1);
+    for (int i = 0; i < free_count; ++i) free_index[free_bins[i]] = i;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(free_count + rows);
+    rhs.tail(rows) = target;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(kktMatrix(q, g, free_index, free_count));
     if (lu.info() != Eigen::Success) return false;
-    solution = lu.solve(rhs);
+    const Eigen::VectorXd solution = lu.solve(rhs);
     if (lu.info() != Eigen::Success) return false;
+    x_free = solution.head(free_count);
+    lambda = solution.tail(rows);
   }
-  if (!solution.allFinite()) return false;
+  if (!x_free.allFinite() || !lambda.allFinite()) return false;
   x = Eigen::VectorXd::Zero(bins);
-  for (int i = 0; i < bins; ++i)
-    if (free_index[i] >= 0) x[i] = solution[free_index[i]];
-  lambda = solution.tail(rows);
+  for (int i = 0; i < free_count; ++i) x[free_bins[i]] = x_free[i];
   return (g * x - target).cwiseAbs().maxCoeff() <= kMomentTolerance;
 }
 
@@ -164,7 +164,7 @@ bool solveOnFreeBins(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd
 // bin is then exactly 0, and the support is a property of the problem, not of the solver's
 // tolerance. False if it does not converge.
 bool refineOnActiveSet(const Eigen::SparseMatrix<double>& q, const Eigen::MatrixXd& g, const Eigen::VectorXd& target,
-                       Eigen::VectorXd& x) {
+                       Eigen::VectorXd& x, int max_steps) {
   const int bins = int(x.size());
   std::vector<bool> active(bins);
   for (int i = 0; i < bins; ++i) {
@@ -172,7 +172,7 @@ bool refineOnActiveSet(const Eigen::SparseMatrix<double>& q, const Eigen::Matrix
     if (active[i]) x[i] = 0;
   }
   Eigen::VectorXd solution, lambda;
-  for (int step = 0; step < 4 * bins; ++step) {
+  for (int step = 0; step < max_steps; ++step) {
     if (!solveOnFreeBins(q, g, target, active, solution, lambda)) return false;
     double length = 1;  // of the step toward the solution that keeps x >= 0
     int blocking = -1;
@@ -203,16 +203,30 @@ bool refineOnActiveSet(const Eigen::SparseMatrix<double>& q, const Eigen::Matrix
 
 }  // namespace
 
-PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins) {
+// From a start that need not be feasible (a warm start's table solves other moments): a step toward
+// the first KKT solution may stop at a bin reaching 0 before G x = t holds, but the method ends only
+// at a KKT point of this problem, so a start changes the number of steps, never the optimum.
+PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins,
+                                          const std::vector<double>* warm_start) {
   const int order = int(target_moments.size()) - 1;
   if (order < 0 || bins < order + 3) throw std::invalid_argument("solveAlteredPhaseTable: need moments and more bins than moments + 2");
+  if (warm_start && int(warm_start->size()) != bins) throw std::invalid_argument("solveAlteredPhaseTable: a warm start on other bins");
   const Eigen::MatrixXd g = scaledMomentMatrix(bins, order);
   const Eigen::SparseMatrix<double> q = poissonQuadraticTerm(bins);
   Eigen::VectorXd target(order + 1);
   for (int n = 0; n <= order; ++n) target[n] = target_moments[n];
   PhaseTableSolution solution;
-  Eigen::VectorXd x = solveQp(q, g, target, solution.termination);
-  const bool polished = solution.termination > 0 && refineOnActiveSet(q, g, target, x);
+  Eigen::VectorXd x(bins);
+  bool polished = false;
+  if (warm_start) {
+    for (int i = 0; i < bins; ++i) x[i] = 4 * kPi * (*warm_start)[i];
+    polished = refineOnActiveSet(q, g, target, x, kWarmStartSteps);
+    solution.warm_started = polished;
+  }
+  if (!polished) {
+    x = solveQp(q, g, target, solution.termination);
+    polished = solution.termination > 0 && refineOnActiveSet(q, g, target, x, 4 * bins);
+  }
   solution.moment_residual = (g * x - target).cwiseAbs().maxCoeff();
   solution.feasible = polished && solution.moment_residual <= kMomentTolerance;
   solution.table.resize(bins);

@@ -1,7 +1,7 @@
 #pragma once
 // The altered phase function as a table (§5.2 of the similarity paper): the quadratic program of
-// Eq. (31), solved with ALGLIB's interior-point QP solver and made exact on its active set. Light
-// header.
+// Eq. (31), solved with ALGLIB's interior-point QP solver (or from a warm start) and made exact on
+// its active set. Light header.
 
 #include <vector>
 
@@ -11,7 +11,8 @@ struct PhaseTableSolution {
   bool feasible = false;
   std::vector<double> table;  // f on k bins ascending over [-1,1], normalised (docs/medium.md §6)
   double moment_residual = 0; // max_n |(G c)_n - f*_n| of the returned table
-  int termination = 0;        // ALGLIB's completion code (> 0: success)
+  int termination = 0;        // ALGLIB's completion code (> 0: success); 0 if a warm start made it unneeded
+  bool warm_started = false;  // solved from the warm start alone, without the interior-point solve
 };
 
 // Eq. (31): min |S c|^2 subject to c >= 0 and G c = f*, with the boxcar basis of Eq. (30) on `bins`
@@ -27,6 +28,13 @@ struct PhaseTableSolution {
 inline constexpr double kActiveGuess = 1e-4;
 inline constexpr double kKktTolerance = 1e-11;
 inline constexpr double kMomentTolerance = 1e-7;
-PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins);
+//
+// warm_start: the table of a nearby problem on the same bins (the same order at the neighbouring g
+// level, say). The active-set step then starts from it instead of from the interior-point solution,
+// and the interior-point solve runs only if that does not converge within kWarmStartSteps. The
+// optimum is the same either way (the step ends only at a KKT point); only the time differs.
+inline constexpr int kWarmStartSteps = 24;
+PhaseTableSolution solveAlteredPhaseTable(const std::vector<double>& target_moments, int bins,
+                                          const std::vector<double>* warm_start = nullptr);
 
 }  // namespace vdbappear

@@ -14,33 +14,24 @@ std::vector<double> tableCdf(const std::vector<double>& table) {
   return cdf;
 }
 
-namespace {
-
-// A CDF given at the edges of equal bins over [-1,1], linear in between.
-double cdfAt(const std::vector<double>& cdf, double mu) {
-  const int bins = int(cdf.size()) - 1;
-  const double u = std::clamp((mu + 1) / 2 * bins, 0.0, double(bins));
-  const int i = std::min(bins - 1, int(u));
-  const double t = u - i;
-  return cdf[i] * (1 - t) + cdf[i + 1] * t;
-}
-
-}  // namespace
-
 double similarityDistance(const std::vector<double>& input_cdf, const std::vector<double>& altered_table, double alpha) {
   const std::vector<double> altered_cdf = tableCdf(altered_table);
-  // Evaluation points: the edges of both grids, merged; between two of them both CDFs are linear.
-  std::vector<double> edges;
-  for (const std::vector<double>* cdf : {&input_cdf, &altered_cdf}) {
-    const int bins = int(cdf->size()) - 1;
-    for (int i = 0; i <= bins; ++i) edges.push_back(-1 + 2.0 * i / bins);
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  double distance = 0;
-  for (std::size_t i = 0; i + 1 < edges.size(); ++i) {
-    const double mid = (edges[i] + edges[i + 1]) / 2;
-    distance += std::abs(cdfAt(input_cdf, mid) - alpha * cdfAt(altered_cdf, mid)) * (edges[i + 1] - edges[i]);
+  // Between two consecutive edges of the grids merged, both CDFs are linear: [left, right] lies in
+  // input bin i - 1 and altered bin j - 1, where each CDF is interpolated at the midpoint.
+  const int input_bins = int(input_cdf.size()) - 1, altered_bins = int(altered_cdf.size()) - 1;
+  auto edge = [](int i, int bins) { return -1 + 2.0 * i / bins; };
+  auto interpolate = [](const std::vector<double>& cdf, int bins, int bin, double mu) {
+    const double t = std::clamp((mu + 1) / 2 * bins - bin, 0.0, 1.0);
+    return cdf[bin] * (1 - t) + cdf[bin + 1] * t;
+  };
+  double distance = 0, left = -1;
+  for (int i = 1, j = 1; i <= input_bins && j <= altered_bins;) {
+    const double a = edge(i, input_bins), b = edge(j, altered_bins), right = std::min(a, b), mid = (left + right) / 2;
+    distance += std::abs(interpolate(input_cdf, input_bins, i - 1, mid) - alpha * interpolate(altered_cdf, altered_bins, j - 1, mid)) *
+                (right - left);
+    i += a == right;
+    j += b == right;
+    left = right;
   }
   return distance;
 }

@@ -65,15 +65,28 @@ std::string noTable(const SimilarityOptions& options, const PhaseTableSolution& 
   return fmt::format("no table on {} bins satisfies the moments (QP code {})", options.bins, solution.termination);
 }
 
+// The QP of Eq. (31) for these moments, from the warm start of its order if there is one. (A start
+// from another order's table was measured slower: it seldom converges within kWarmStartSteps.)
+PhaseTableSolution solveOrder(const std::vector<double>& target, int bins, QpWarmStarts* warm) {
+  if (!warm) return solveAlteredPhaseTable(target, bins);
+  const std::size_t order = target.size() - 1;
+  if (warm->table_of_order.size() <= order) warm->table_of_order.resize(order + 1);
+  std::vector<double>& start = warm->table_of_order[order];
+  PhaseTableSolution solution = solveAlteredPhaseTable(target, bins, start.empty() ? nullptr : &start);
+  if (solution.feasible) start = solution.table;
+  return solution;
+}
+
 // Lines 11-14: solve, stepping down while the table overfits (or the QP finds none at k bins).
 // When every order overfits, the widest table wins (ties: the higher order).
 AlteredPhase firstOrderNotOverfitting(const PhaseMoments& phase, const SimilarityOptions& options,
-                                      const std::vector<double>& altered, int order, AlteredPhase result) {
+                                      const std::vector<double>& altered, int order, AlteredPhase result,
+                                      QpWarmStarts* warm) {
   const double min_support = options.support_ratio * phase.support;
   AlteredPhase widest;
   for (; order >= 1; --order) {
     const std::vector<double> target = firstMoments(altered, order);
-    PhaseTableSolution solution = solveAlteredPhaseTable(target, options.bins);
+    PhaseTableSolution solution = solveOrder(target, options.bins, warm);
     const double support = solution.feasible ? tableSupport(solution.table) : 0.0;
     if (solution.feasible && support > widest.support) {
       widest.order = order;
@@ -107,11 +120,11 @@ AlteredPhase firstOrderNotOverfitting(const PhaseMoments& phase, const Similarit
 
 // The distance rule: from the highest order down, while the next lower order's table is closer to f.
 AlteredPhase closestOrder(const PhaseMoments& phase, const SimilarityOptions& options, const std::vector<double>& altered,
-                          int order, AlteredPhase result) {
+                          int order, AlteredPhase result, QpWarmStarts* warm) {
   if (phase.cdf.size() < 2) throw std::invalid_argument("the distance rule needs the phase function's CDF");
   for (; order >= 1; --order) {
     const std::vector<double> target = firstMoments(altered, order);
-    PhaseTableSolution solution = solveAlteredPhaseTable(target, options.bins);
+    PhaseTableSolution solution = solveOrder(target, options.bins, warm);
     if (!solution.feasible) {
       result.rejected.push_back({order, 0.0, 0.0, noTable(options, solution)});
       continue;
@@ -138,7 +151,7 @@ AlteredPhase closestOrder(const PhaseMoments& phase, const SimilarityOptions& op
 
 }  // namespace
 
-AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options) {
+AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options, QpWarmStarts* warm) {
   AlteredPhase result;
   result.alpha = options.alpha > 0 ? options.alpha : defaultAlpha(phase.moments.at(1));
   checkInputs(phase, options, result.alpha);
@@ -155,8 +168,9 @@ AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOpti
     ++order;
   }
 
-  return options.order_rule == OrderRule::kDistance ? closestOrder(phase, options, altered, order, std::move(result))
-                                                     : firstOrderNotOverfitting(phase, options, altered, order, std::move(result));
+  return options.order_rule == OrderRule::kDistance
+             ? closestOrder(phase, options, altered, order, std::move(result), warm)
+             : firstOrderNotOverfitting(phase, options, altered, order, std::move(result), warm);
 }
 
 }  // namespace vdbappear

@@ -76,6 +76,14 @@ struct AlteredPhase {
 // closest order when the distances fall and then rise with N (as measured: docs/similarity.md).
 // Throws std::invalid_argument when alpha is outside [minimumAlpha(f_1), 1] or the input has fewer
 // than N0+1 moments.
-AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options);
+//
+// warm: the tables of the previous phase function, by order, kept up to date here. Along a sequence
+// of nearby phase functions (ascending g levels) each QP then starts from its neighbour's table and
+// takes a few active-set steps instead of an interior-point solve; the result is the same.
+struct QpWarmStarts {
+  std::vector<std::vector<double>> table_of_order;  // [N]: the last table solved at order N; empty if none
+};
+AlteredPhase computeAlteredPhase(const PhaseMoments& phase, const SimilarityOptions& options,
+                                 QpWarmStarts* warm = nullptr);
 
 }  // namespace vdbappear

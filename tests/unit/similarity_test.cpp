@@ -513,3 +513,58 @@ TEST(AlteredPhase, DistanceRuleTakesTheClosestOrder) {
   EXPECT_EQ(computeAlteredPhase(tablePhaseMoments(c_table, 5), options).order, 3);
   EXPECT_EQ(computeAlteredPhase(tablePhaseMoments(gkioulekasTable(3600), 5), options).order, 1);
 }
+
+// A warm start (altered_phase_qp.h) changes the time, not the table: along 60 consecutive g levels of
+// the quantiser at its default tolerance (steps of 4e-4 about g = 0.9), every order's table started
+// from its neighbour's equals the cold solve (interior point + active set) to rounding, with the
+// same support, and the warm path is the one taken (else it saves nothing). A start far from the
+// problem (HG(0.3)'s table for Eq. 33) must still give the cold table.
+TEST(AlteredPhaseQp, WarmStartsGiveTheColdTable) {
+  const GQuantiser quantiser(1e-3, 5);
+  for (int order = 1; order <= 5; ++order) {
+    std::vector<double> previous;
+    int warm = 0, solved = 0;
+    for (int level = quantiser.level(0.9) - 30; level < quantiser.level(0.9) + 30; ++level) {
+      const double g = quantiser.value(level);
+      const std::vector<double> f = alteredMoments(henyeyGreensteinMoments(g, order), defaultAlpha(g));
+      const PhaseTableSolution cold = solveAlteredPhaseTable(f, 360);
+      const PhaseTableSolution hot = solveAlteredPhaseTable(f, 360, previous.empty() ? nullptr : &previous);
+      ASSERT_EQ(hot.feasible, cold.feasible) << "order " << order << " g " << g;
+      if (!cold.feasible) continue;
+      ++solved;
+      warm += hot.warm_started;
+      for (int i = 0; i < 360; ++i) ASSERT_NEAR(hot.table[i], cold.table[i], 1e-13) << "order " << order << " g " << g << " bin " << i;
+      EXPECT_EQ(tableSupport(hot.table), tableSupport(cold.table)) << "order " << order << " g " << g;
+      previous = hot.table;
+    }
+    EXPECT_GE(solved, 30) << "order " << order;  // order 5 exists (Theorem 1) at 38 of the 60 levels
+    EXPECT_GE(warm, solved - 1) << "order " << order;
+  }
+  const std::vector<double> eq33 = tablePhaseMoments(gkioulekasTable(3600), 5).moments;
+  const std::vector<double> far = solveAlteredPhaseTable(alteredMoments(henyeyGreensteinMoments(0.3, 4), 0.7), 360).table;
+  for (const std::vector<double>& f : {alteredMoments(firstN(eq33, 4), 1 - eq33[1]), alteredMoments(eq33, 1 - eq33[1])}) {
+    const PhaseTableSolution cold = solveAlteredPhaseTable(f, 360), hot = solveAlteredPhaseTable(f, 360, &far);
+    ASSERT_TRUE(hot.feasible);
+    for (int i = 0; i < 360; ++i) ASSERT_NEAR(hot.table[i], cold.table[i], 1e-13) << "Eq. 33 order " << f.size() - 1 << " bin " << i;
+    EXPECT_LE(kktViolation(qpProblem(f, 360), hot.table), 1e-9);
+  }
+  EXPECT_THROW(solveAlteredPhaseTable(eq33, 360, &eq33), std::invalid_argument);  // a start on other bins
+}
+
+// Both order rules choose the same order and table along a run of g levels with warm starts as
+// without (similarity_medium.cpp solves whole media so).
+TEST(AlteredPhase, WarmStartsChangeNeitherOrderNorTable) {
+  const GQuantiser quantiser(1e-3, 5);
+  for (OrderRule rule : {OrderRule::kSupport, OrderRule::kDistance}) {
+    SimilarityOptions options;
+    options.order_rule = rule;
+    QpWarmStarts warm;
+    for (int level = quantiser.level(0.7); level < quantiser.level(0.96); level += 25) {
+      const PhaseMoments phase = henyeyGreensteinPhaseMoments(quantiser.value(level), 5);
+      const AlteredPhase cold = computeAlteredPhase(phase, options), hot = computeAlteredPhase(phase, options, &warm);
+      ASSERT_EQ(hot.order, cold.order) << orderRuleName(rule) << " g " << quantiser.value(level);
+      EXPECT_EQ(hot.rejected.size(), cold.rejected.size());
+      for (int i = 0; i < 360; ++i) ASSERT_NEAR(hot.table[i], cold.table[i], 1e-13) << orderRuleName(rule) << " bin " << i;
+    }
+  }
+}
