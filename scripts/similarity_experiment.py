@@ -10,11 +10,13 @@
    of Gkioulekas et al. 2013 that the paper samples, all with the first moment f1 = 0.7563:
    A = 0.9 HG(0.9292) + 0.1 vMF(-5), B = 0.9 HG(0.907) + 0.1 HG(-0.6), and two more reported
    alongside, Eq. 33 (0.9 HG(0.95) + 0.1 vMF(-75)) and 0.9 HG(0.8737) + 0.1 HG(-0.3). In a cube of
-   100 mean free paths lit from the side, each is altered with Algorithm 1 (order up to 5), with the
-   order-1 relation only (--max-order 1) and with the support threshold off (--support-ratio 0), at
-   the same alpha, and compared with its own reference on 4x4-pixel tile means.
-3. Throughput: Algorithm 1 for single HG phase functions (ms per QP solve) and a 256^3 cloud with a
-   continuous per-voxel g (vdb_make_medium cloud --g-edge) through vdb_similarity.
+   100 mean free paths lit from the side, each is altered with the default (distance) order rule,
+   with Algorithm 1's support rule (order up to 5), with the order-1 relation only (--max-order 1)
+   and with the support threshold off (--support-ratio 0), at the same alpha, and compared with its
+   own reference on 4x4-pixel tile means.
+3. Throughput: the default rule for single HG phase functions (ms per QP solve), and whole media
+   with a continuous per-voxel g (vdb_make_medium cloud --g-edge: two 256^3 clouds of g 0.7 to 0.95,
+   a 128^3 cloud of g -0.9 to 0.9) through vdb_similarity with both order rules, in the same run.
 Results: similarity-out/report.md and report.json, images and similarity.png (drawn by
 scripts/plot_similarity.py with Debian's python3-matplotlib, installed when missing).
 Usage: scripts/similarity_experiment.py [--build build] [--out similarity-out] [--spp 64] [--ref-spp 1024]
@@ -176,20 +178,37 @@ def throughput(tools, out):
             best = min(best or 1e9, r["seconds"] / count)
         solves.append({"g": g, "order": r["order"], "solves": count, "ms_per_solve": 1e3 * best})
     media = []
-    for coverage in ["0.5", "1"]:
-        medium = out / f"cloud256_cov{coverage}.vdb"
-        tools("vdb_make_medium", "cloud", "--res", "256", "--g", "0.95", "--g-edge", "0.7", "--coverage", coverage, "-o", medium)
-        for rule in ["support", "distance"]:  # the order rules, in the same run
-            report = out / f"cloud256_cov{coverage}_{rule}.json"
-            start = time.monotonic()
-            tools("vdb_similarity", medium, out / f"cloud256_cov{coverage}_altered.vdb", "--report", report, "--order-rule", rule)
-            wall = time.monotonic() - start
-            r = json.loads(report.read_text())
-            media.append({"coverage": float(coverage), "rule": rule, "voxels": r["voxels"], "tables": len(r["tables"]),
-                          "moment_bound": r["moment_bound"], "max_moment_error": r["max_moment_error"],
-                          "seconds": r["seconds"], "wall_seconds": wall})
+    clouds = {f"256^3 cloud, coverage {c}, g 0.7 to 0.95": ["--res", "256", "--g", "0.95", "--g-edge", "0.7", "--coverage", c]
+              for c in ["0.5", "1"]}
+    clouds["128^3 cloud, g -0.9 to 0.9"] = ["--res", "128", "--g", "0.9", "--g-edge", "-0.9"]
+    for name, args in clouds.items():
+        medium = out / "throughput_cloud.vdb"
+        altered = out / "throughput_cloud_altered.vdb"
+        tools("vdb_make_medium", "cloud", *args, "-o", medium)
+        runs = {"support": [], "distance": []}
+        for _ in range(3):  # the order rules alternately, in the same run; medians of 3
+            for rule in runs:
+                report = out / f"throughput_{rule}.json"
+                start = time.monotonic()
+                tools("vdb_similarity", medium, altered, "--report", report, "--order-rule", rule)
+                wall = time.monotonic() - start
+                r = json.loads(report.read_text())
+                runs[rule].append({"medium": name, "rule": rule, "voxels": r["voxels"], "tables": len(r["tables"]),
+                                   "moment_bound": r["moment_bound"], "max_moment_error": r["max_moment_error"],
+                                   "solves": sum(1 + len(t["rejected"]) for t in r["tables"]),
+                                   "seconds": r["seconds"], "wall_seconds": wall})
+                report.unlink()
+        def median(rule, value):
+            return sorted(value(row) for row in runs[rule])[1]
+        for rule, rows in runs.items():
+            row = dict(rows[0])  # the counts are the same in every run; the times are medians
+            row["seconds"] = {part: median(rule, lambda r: r["seconds"][part]) for part in ("read", "alter", "write")}
+            row["wall_seconds"] = median(rule, lambda r: r["wall_seconds"])
+            row["wall_ratio"] = row["wall_seconds"] / median("support", lambda r: r["wall_seconds"])
+            row["alter_ratio"] = row["seconds"]["alter"] / median("support", lambda r: r["seconds"]["alter"])
+            media.append(row)
         medium.unlink()
-        (out / f"cloud256_cov{coverage}_altered.vdb").unlink()
+        altered.unlink()
     return {"single": solves, "media": media}
 
 
@@ -233,12 +252,14 @@ def markdown(report, spp, ref_spp):
               "## 3. Throughput", "", "| g | order | QP solves | ms per solve |", "|---|---|---|---|"]
     for s in report["throughput"]["single"]:
         lines.append(f"| {s['g']} | {s['order']} | {s['solves']} | {s['ms_per_solve']:.1f} |")
-    lines += ["", "| 256^3 cloud, coverage | order rule | voxels | tables | moment bound | max moment error | read + alter + write (s) | wall (s) |",
-              "|---|---|---|---|---|---|---|---|"]
+    lines += ["", "Whole media (median of 3 runs per rule, alternating; ratios against the support rule's medians):", "",
+              "| medium | order rule | voxels | tables | QP solves | moment bound | max moment error | read + alter + write (s) | "
+              "alter ratio | wall (s) | wall ratio |", "|---|---|---|---|---|---|---|---|---|---|---|"]
     for m in report["throughput"]["media"]:
         s = m["seconds"]
-        lines.append(f"| {m['coverage']} | {m['rule']} | {m['voxels']} | {m['tables']} | {m['moment_bound']:.2g} | {m['max_moment_error']:.2g} | "
-                     f"{s['read']:.2f} + {s['alter']:.2f} + {s['write']:.2f} | {m['wall_seconds']:.2f} |")
+        lines.append(f"| {m['medium']} | {m['rule']} | {m['voxels']} | {m['tables']} | {m['solves']} | {m['moment_bound']:.2g} | "
+                     f"{m['max_moment_error']:.2g} | {s['read']:.2f} + {s['alter']:.2f} + {s['write']:.2f} | "
+                     f"{m['alter_ratio']:.2f} | {m['wall_seconds']:.2f} | {m['wall_ratio']:.2f} |")
     return "\n".join(lines) + "\n"
 
 

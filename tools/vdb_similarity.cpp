@@ -28,17 +28,19 @@ constexpr const char* kTool = "vdb_similarity";
 constexpr const char* kExamples = R"(Examples:
   vdb_similarity --hg 0.9 --json                      one phase function: alpha, order, table as JSON
   vdb_similarity --hg 0.95 --alpha 0.2 --max-order 3
+  vdb_similarity --hg 0.9 --order-rule support --json  Algorithm 1's order rule as printed (§7.3)
   vdb_similarity --table measured.txt --json > altered.json
   vdb_similarity cloud.vdb cloud_altered.vdb -v       a medium with hg_g (grid or metadata) or phase_table
   vdb_make_medium cloud -o - | vdb_similarity - - | vdb_render - -o fast.exr
 
 sigma_a* = sigma_a, sigma_s* = alpha sigma_s; the altered phase function f* keeps the reduced
-attenuation sigma_a + sigma_s (1 - f_n) of every order n <= N (Eq. 23): N is the highest order
-<= --max-order that Theorem 1 allows and whose table is not overfitting (support >= --support-ratio
-times the original's, §7.3). f* is tabulated on --bins bins of mu by the QP of Eq. (31). Default
-alpha: max(0.3, 1 - f1) per phase function (§7.2), at most 1. Colour: exact for a grey albedo;
-with RGB albedo, absorption is kept in every channel and the relations hold for a reference albedo
-(docs/similarity.md). A per-voxel hg_g is quantised so that every Legendre moment used moves by at
+attenuation sigma_a + sigma_s (1 - f_n) of every order n <= N (Eq. 23). Of the orders <= --max-order
+that Theorem 1 allows, N is the one whose alpha f* + (1 - alpha) delta is closest to f (Wasserstein-1
+distance); with --order-rule support, the highest whose table is not overfitting (support >=
+--support-ratio times the original's, §7.3). f* is tabulated on --bins bins of mu by the QP of
+Eq. (31), solved exactly. Default alpha: max(0.3, 1 - f1) per phase function (§7.2), at most 1.
+Colour: exact for a grey albedo; with RGB albedo, absorption is kept in every channel and the
+relations hold for a reference albedo (docs/similarity.md). A per-voxel hg_g is quantised so that every Legendre moment used moves by at
 most --moment-tolerance. Tables read with --table: JSON ("table" array) or numbers, ascending mu.)";
 
 struct Options {
@@ -188,12 +190,14 @@ int main(int argc, char** argv) {
   app.add_option("--max-order", o.max_order, "N0: the highest order of the relations (Algorithm 1)")
       ->check(CLI::Range(1, 12))
       ->capture_default_str();
-  app.add_option("--support-ratio", o.support_ratio, "beta of §7.3: reject a table with less support than beta times the original's")
+  app.add_option("--support-ratio", o.support_ratio,
+                 "beta of §7.3 (--order-rule support): reject a table with less support than beta times the original's")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--order-rule", order_rule,
-                 "how the order is chosen: support (Algorithm 1: the highest order not overfitting, §7.3) or distance "
-                 "(the order whose f* is closest to f in the Wasserstein-1 distance; docs/similarity.md)")
+                 "how the order is chosen: distance (the order whose f* is closest to f in the Wasserstein-1 distance, "
+                 "never the classic order 1's worse; docs/similarity.md) or support (Algorithm 1 as printed: the highest "
+                 "order not overfitting, §7.3)")
       ->check(CLI::IsMember({"support", "distance"}))
       ->capture_default_str();
   app.add_option("--bins", o.bins, "k: bins of the altered tables (Eq. 30)")->check(CLI::Range(16, 4096))->capture_default_str();

@@ -32,7 +32,7 @@ struct SimilarityOptions {
   int max_order = 5;            // N0 of Algorithm 1
   double support_ratio = 0.65;  // beta of §7.3: reject f* when nz(f*) < beta nz(f) (kSupport)
   int bins = 360;               // k of Eq. (30)
-  OrderRule order_rule = OrderRule::kSupport;
+  OrderRule order_rule = OrderRule::kDistance;
 };
 OrderRule parseOrderRule(const std::string& name);  // "support" or "distance"
 const char* orderRuleName(OrderRule rule);

@@ -71,7 +71,8 @@ TEST(SimilarityCli, OneMaterialPrintsTheAlteredPhaseFunctionAsJson) {
     EXPECT_NEAR(got[n], expected[n], 1e-5) << n;
   }
   EXPECT_GE(j.at("support").get<double>(), 0.65);
-  EXPECT_EQ(j.at("rejected").size(), 2u);
+  EXPECT_EQ(j.at("order_rule").get<std::string>(), "distance");  // the default
+  EXPECT_EQ(j.at("rejected").size(), 3u);  // orders 5 and 4 (farther than 3) and 2 (no closer)
 }
 
 // --order-rule distance (docs/similarity.md §1): the distances of the orders it passed over are in

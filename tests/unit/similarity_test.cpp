@@ -232,10 +232,18 @@ TEST(AlteredPhase, DefaultAlphaFollowsSection72) {
   EXPECT_EQ(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.6, 5), {}).alpha, 0.4);
 }
 
+// Algorithm 1's order rule as printed (--order-rule support; the default is the distance rule).
+SimilarityOptions supportRule(double alpha = 0) {
+  SimilarityOptions options;
+  options.alpha = alpha;
+  options.order_rule = OrderRule::kSupport;
+  return options;
+}
+
 // §7.3 exercised: for HG(0.9) at alpha 0.3, Theorem 1 allows order 5, but the order-5 and order-4
 // tables are narrow (support 0.23 and 0.58 < 0.65), so Algorithm 1 steps down to order 3.
 TEST(AlteredPhase, OverfittingRuleRejectsNarrowTables) {
-  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), {});
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), supportRule());
   EXPECT_EQ(a.existence_margins.size(), 5u);
   for (double margin : a.existence_margins) EXPECT_GT(margin, 0);
   EXPECT_EQ(a.order, 3);
@@ -246,22 +254,29 @@ TEST(AlteredPhase, OverfittingRuleRejectsNarrowTables) {
   EXPECT_GE(a.support, 0.65);
   EXPECT_FALSE(a.support_below_threshold);
 
-  SimilarityOptions no_threshold;
+  SimilarityOptions no_threshold = supportRule();
   no_threshold.support_ratio = 0;
   EXPECT_EQ(computeAlteredPhase(henyeyGreensteinPhaseMoments(0.9, 5), no_threshold).order, 5);
 }
 
-// Where Theorem 1 stops: HG(0.8) at alpha 0.3 has no order-3 altered phase function.
+// Where Theorem 1 stops: HG(0.8) at alpha 0.3 has no order-3 altered phase function. Algorithm 1
+// takes the highest order left; the distance rule searches no higher either.
 TEST(AlteredPhase, OrderStopsWhereTheoremOneFails) {
-  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.8, 5), SimilarityOptions{0.3});
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.8, 5), supportRule(0.3));
   ASSERT_EQ(a.existence_margins.size(), 3u);
   EXPECT_LT(a.existence_margins[2], 0);
   EXPECT_EQ(a.order, 2);
+  SimilarityOptions distance;
+  distance.alpha = 0.3;
+  const AlteredPhase d = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.8, 5), distance);
+  EXPECT_EQ(d.existence_margins.size(), 3u);
+  EXPECT_LE(d.order, 2);
+  for (const RejectedOrder& r : d.rejected) EXPECT_LE(r.order, 2);
 }
 
 // When every order overfits, the widest table is kept (HG(0.95) at alpha 0.5: supports 0.21 .. 0.30).
 TEST(AlteredPhase, KeepsTheWidestTableWhenEveryOrderOverfits) {
-  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.95, 5), SimilarityOptions{0.5});
+  const AlteredPhase a = computeAlteredPhase(henyeyGreensteinPhaseMoments(0.95, 5), supportRule(0.5));
   EXPECT_TRUE(a.support_below_threshold);
   EXPECT_EQ(a.order, 5);
   for (const RejectedOrder& r : a.rejected) {
