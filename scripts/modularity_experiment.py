@@ -18,7 +18,8 @@ reduction (the split of the un-optimised lobes).
 - Seams: the errors over pixels near block borders against pixels inside blocks (masks from the
   held-out camera and the sheet's mid-plane; vdb_image_compare --mask).
 - Instancing: a 64 x 64 layout of blocks 128 voxels on a side, instanced, rendered at 1280x720 with
-  its peak memory; model A built and instanced rendered alike.
+  its peak memory, and the same blocks in 16 x 16 and 256 x 256 layouts (memory against model size);
+  model A built and instanced rendered alike.
 - Amortised cost: the stacked pipeline (stack, lobes, optimisation, split, one assemble per model)
   against reducing and optimising each full model on its own (lobes + optimisation of A and of B,
   measured; for 8 models the per-model cost is the mean of the two).
@@ -169,21 +170,35 @@ class Modularity(Experiment):
             result[f"three-quarter_{kind}"] = self.compare(self.out / name / f"full_three-quarter_{kind}.exr", exr)
         return result
 
+    def timed_render(self, model, png, report):
+        """vdb_render at 1280x720, 16 spp, under /usr/bin/time -v: (peak resident MB, wall, its report)."""
+        timed = subprocess.run(["/usr/bin/time", "-v", self.bin / "vdb_render", model, "-o", png,
+                                "--res", "1280x720", "--spp", "16", "--camera-pos", "300,-200,200", "--camera-target",
+                                "128,128,0", "--fov", "40", "--sun", "0.3,0.2,-1,3", "--env", "0.3", "--report",
+                                report], check=True, text=True, capture_output=True)
+        peak_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", timed.stderr).group(1))
+        wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): ([\d:.]+)", timed.stderr).group(1)
+        return peak_kb / 1024, wall, json.loads(pathlib.Path(report).read_text())
+
     def instancing(self):
         """A 64 x 64 layout of blocks 128 voxels on a side, instanced, rendered at 1280x720: peak memory
-        and time (/usr/bin/time -v); and model A built and instanced, rendered alike."""
+        and time (/usr/bin/time -v); the same blocks in 16 x 16 and 256 x 256 layouts (ids (3i + 5j)
+        mod 6), for how memory grows with the model; and model A built and instanced, rendered alike."""
         d = self.out / "instancing"
         d.mkdir(exist_ok=True)
         blocks, model = d / "blocks_128.vdb", d / "model_64x64.vdb"
         self.tool("vdb_make_medium", "exemplars", "--count", "6", "--res", "128", "--layout", "64x64", "-o", blocks)
         self.tool("vdb_exemplar_stack", "assemble", "--instanced", blocks, model)
-        timed = subprocess.run(["/usr/bin/time", "-v", self.bin / "vdb_render", model, "-o", d / "model_64x64.png",
-                                "--res", "1280x720", "--spp", "16", "--camera-pos", "300,-200,200", "--camera-target",
-                                "128,128,0", "--fov", "40", "--sun", "0.3,0.2,-1,3", "--env", "0.3", "--report",
-                                d / "render.json"], check=True, text=True, capture_output=True)
-        peak_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", timed.stderr).group(1))
-        wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): ([\d:.]+)", timed.stderr).group(1)
-        report = json.loads((d / "render.json").read_text())
+        peak_mb, wall, report = self.timed_render(model, d / "model_64x64.png", d / "render.json")
+        growth = []
+        for n in (16, 256):
+            layout, grown = d / f"layout_{n}x{n}.json", d / f"model_{n}x{n}.vdb"
+            layout.write_text(json.dumps([[(3 * i + 5 * j) % 6 for i in range(n)] for j in range(n)]))
+            self.tool("vdb_exemplar_stack", "assemble", "--instanced", "--layout", layout, blocks, grown)
+            peak, _, r = self.timed_render(grown, d / f"model_{n}x{n}.png", d / f"render_{n}x{n}.json")
+            growth.append({"layout": f"{n}x{n}", "model_active_voxels": r["instanced_model_voxels"],
+                           "majorant_voxels": r["majorant_voxels"], "peak_rss_mb": peak, "render_seconds": r["seconds"]})
+            grown.unlink()
         built, instanced = self.out / "A" / "full.vdb", d / "A_instanced.vdb"
         self.tool("vdb_exemplar_stack", "assemble", "--instanced", self.out / "blocks.vdb", instanced)
         camera = self.camera(built, 250, 40)
@@ -195,9 +210,9 @@ class Modularity(Experiment):
         voxels_per_block = 128 * 128 * 32
         return {"layout": "64x64", "block_voxels": [128, 128, 32], "model_cells": 64 * 64 * voxels_per_block,
                 "model_active_voxels": report["instanced_model_voxels"], "file_bytes": model.stat().st_size,
-                "peak_rss_mb": peak_kb / 1024, "wall": wall, "render_seconds": report["seconds"],
+                "peak_rss_mb": peak_mb, "wall": wall, "render_seconds": report["seconds"],
                 "majorant_voxels": report["majorant_voxels"], "built_vs_instanced_rmse": same["rmse"],
-                "built_vs_instanced_mean_error": same["mean_relative_error"]}
+                "built_vs_instanced_mean_error": same["mean_relative_error"], "growth": growth}
 
     def mean_foreground(self, reference_exr, exr):
         c = json.loads(self.tool("vdb_image_compare", reference_exr, exr, "--foreground", "--report", "-").stdout)
@@ -302,7 +317,16 @@ def write_report(out, r):
               f"{i['render_seconds']:.1f} s, {i['majorant_voxels'] / 1e6:.1f} M majorant voxels.", "",
               f"Model A built and instanced, rendered alike (120x90, 16 spp, same seed): RMSE {i['built_vs_instanced_rmse']:.3g}, "
               f"mean {100 * i['built_vs_instanced_mean_error']:+.4f}%.", "",
-              "![instanced](instancing/model_64x64.png)"]
+              "How memory grows with the model (the same blocks and render; the model's majorant is walked "
+              "through the layout, not built):", "",
+              "| layout | active voxels if built | majorant voxels if built | peak resident memory | render |",
+              "|---|---|---|---|---|"]
+    rows = [{"layout": i["layout"], "model_active_voxels": i["model_active_voxels"], "majorant_voxels": i["majorant_voxels"],
+             "peak_rss_mb": i["peak_rss_mb"], "render_seconds": i["render_seconds"]}] + i.get("growth", [])
+    for g in sorted(rows, key=lambda g: g["model_active_voxels"]):
+        lines.append(f"| {g['layout']} | {g['model_active_voxels'] / 1e6:,.0f} M | {g['majorant_voxels'] / 1e6:,.1f} M | "
+                     f"{g['peak_rss_mb']:.0f} MB | {g['render_seconds']:.1f} s |")
+    lines += ["", "![instanced](instancing/model_64x64.png)"]
     lines += ["", "## Pictures", ""]
     for model in ("A", "B"):
         for tag in r["held_out"][model]:

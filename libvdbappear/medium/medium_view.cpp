@@ -5,6 +5,7 @@
 #include "libvdbappear/medium/majorant_grid.h"
 #include "libvdbappear/medium/majorant_traversal.h"
 #include "libvdbappear/modularity/instance_mapping.h"
+#include "libvdbappear/modularity/instanced_majorant_traversal.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
@@ -78,14 +79,14 @@ void MediumView::Impl::findTransform() {
 }
 
 // An instanced model (docs/modularity.md) renders with nearest lookups: a trilinear stencil on a block
-// border reads the neighbouring block, which the per-block majorant does not bound.
+// border reads the neighbouring block, which the per-block majorant does not bound. Its majorant
+// stays the block set's, walked through the layout (modularity/instanced_majorant_traversal.h).
 void MediumView::Impl::findInstances() {
   instances = InstanceMapping::of(*medium, kMajorantBlock);
   if (!instances) return;
   if (interpolation != Interpolation::kNearest)
     throw MediumError(fmt::format("{}: an instanced model renders with nearest lookups (--interp nearest); for "
                                   "trilinear lookups assemble it without --instanced", medium->source));
-  majorant = instances->modelGrid(*majorant, kMajorantBlock, medium->source);
 }
 
 void MediumView::Impl::findBounds() {
@@ -97,7 +98,8 @@ void MediumView::Impl::findBounds() {
                                (corner & 4 ? box.max().z() + 0.5 : box.min().z() - 0.5));
     bounds.extend(toVec3(medium->transform().indexToWorld(index)));
   }
-  const openvdb::CoordBBox m = majorant->evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox m = instances ? instances->modelMajorantBox(*medium->density, kMajorantBlock)
+                                         : majorant->evalActiveVoxelBoundingBox();
   majorant_box = openvdb::math::BBox<openvdb::Vec3d>(m.min().asVec3d(), m.max().asVec3d() + openvdb::Vec3d(1.0));
 }
 
@@ -201,7 +203,10 @@ Interpolation MediumView::interpolation() const { return impl_->interpolation; }
 PhaseSource MediumView::phaseSource() const { return impl_->phase_source; }
 int MediumView::lobeCount() const { return impl_->phase_source == PhaseSource::kLobes ? int(impl_->lobes.size()) : 1; }
 int MediumView::clusterCount() const { return impl_->cluster_count; }
-std::size_t MediumView::majorantVoxelCount() const { return impl_->majorant->activeVoxelCount(); }
+std::size_t MediumView::majorantVoxelCount() const {
+  return impl_->instances ? impl_->instances->modelMajorantVoxelCount(*impl_->majorant, kMajorantBlock)
+                          : impl_->majorant->activeVoxelCount();
+}
 std::uint64_t MediumView::instancedVoxelCount() const {
   return impl_->instances ? impl_->instances->modelVoxelCount(*impl_->medium->density) : 0;
 }
@@ -477,6 +482,15 @@ bool majorantRay(const MediumView::Impl& view, const Vec3& o, const Vec3& d, dou
   return !view.majorant_box.empty() && ray->clip(view.majorant_box) && ray->t1() > ray->t0();
 }
 
+// fn(t0, t1, sigma_maj) along the ray's non-empty majorant segments: the majorant grid's, or an
+// instanced model's walked through its layout.
+template <typename Fn>
+bool forEachSegment(const MediumView::Impl& view, MediumLookup::Accessors& accessors, const MajorantRay& ray, Fn&& fn) {
+  if (view.instances)
+    return forEachInstancedMajorantSegment(ray, *view.instances, kMajorantBlock, accessors.majorant, std::forward<Fn>(fn));
+  return forEachMajorantSegment(ray, accessors.majorant, std::forward<Fn>(fn));
+}
+
 }  // namespace
 
 namespace {
@@ -492,7 +506,7 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
   const Vec3 o_index = view.world_to_index * o + view.index_of_origin;
   const Vec3 d_index = view.world_to_index * d;
   double tau = -std::log(1 - rng.uniform());  // optical depth to the next event
-  forEachMajorantSegment(ray, accessors.majorant, [&](double t0, double t1, double sigma_maj) {
+  forEachSegment(view, accessors, ray, [&](double t0, double t1, double sigma_maj) {
     for (double t = t0;;) {
       const double dt = tau / sigma_maj;
       if (t + dt >= t1) {
@@ -546,7 +560,7 @@ double MediumLookup::majorantOpticalDepth(const Vec3& o, const Vec3& d, double t
   MajorantRay ray;
   if (!majorantRay(view_, o, d, t_max, &ray)) return 0;
   double depth = 0;
-  forEachMajorantSegment(ray, accessors_->majorant, [&](double t0, double t1, double sigma_maj) {
+  forEachSegment(view_, *accessors_, ray, [&](double t0, double t1, double sigma_maj) {
     depth += sigma_maj * (t1 - t0);
     return true;
   });

@@ -69,23 +69,25 @@ openvdb::CoordBBox InstanceMapping::modelBounds(const openvdb::FloatGrid& densit
   return model;
 }
 
-openvdb::FloatGrid::Ptr InstanceMapping::modelGrid(const openvdb::FloatGrid& set_grid, int unit,
-                                                   const std::string& file) const {
-  BlockMoves moves{Coord(block_.x() / unit, block_.y() / unit, block_.z() / unit), {}};
-  for (int e = 0; e < count_; ++e) moves.destinations[Coord(e, 0, 0)];
-  for (int k = 0; k < layout_.depth; ++k)
-    for (int j = 0; j < layout_.height; ++j)
-      for (int i = 0; i < layout_.width; ++i)
-        if (layout_.at(i, j, k) != ExemplarLayout::kEmpty)
-          moves.destinations[Coord(layout_.at(i, j, k), 0, 0)].push_back(Coord(i, j, k));
-  return moveFloatGrid(set_grid, moves, file);
+openvdb::CoordBBox InstanceMapping::modelMajorantBox(const openvdb::FloatGrid& density, int unit) const {
+  const openvdb::CoordBBox voxels = modelBounds(density);
+  if (voxels.empty()) return voxels;
+  const Coord cell(unit, unit, unit);
+  return openvdb::CoordBBox(blockOf(voxels.min(), cell), blockOf(voxels.max(), cell));
+}
+
+std::uint64_t InstanceMapping::modelMajorantVoxelCount(const openvdb::FloatGrid& set_majorant, int unit) const {
+  return placedTotal(activeVoxelsPerBlock(set_majorant, Coord(block_.x() / unit, block_.y() / unit, block_.z() / unit)));
 }
 
 std::uint64_t InstanceMapping::modelVoxelCount(const openvdb::FloatGrid& density) const {
-  std::map<Coord, std::uint64_t> voxels = activeVoxelsPerBlock(density, block_);
+  return placedTotal(activeVoxelsPerBlock(density, block_));
+}
+
+std::uint64_t InstanceMapping::placedTotal(std::map<Coord, std::uint64_t> per_exemplar) const {
   std::uint64_t total = 0;
   for (int e : layout_.ids)
-    if (e != ExemplarLayout::kEmpty) total += voxels[Coord(e, 0, 0)];
+    if (e != ExemplarLayout::kEmpty) total += per_exemplar[Coord(e, 0, 0)];
   return total;
 }
 

@@ -2,12 +2,14 @@
 // An instanced model (§7; docs/modularity.md): the block set and a layout, rendered without building
 // the model's grids. Every voxel lookup goes through the layout: model voxel v in block b is voxel
 // v - b*B of exemplar layout(b), at index (e*Bx, 0, 0) + (v - b*B) of the block set. Memory grows
-// with the block set and the layout, not with the model. Includes OpenVDB (library code only).
+// with the block set and the layout, not with the model (its majorant included:
+// instanced_majorant_traversal.h). Includes OpenVDB (library code only).
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/modularity/block_moves.h"
 #include "libvdbappear/modularity/exemplar_layout.h"
 
+#include <map>
 #include <optional>
 
 namespace vdbappear {
@@ -37,15 +39,21 @@ class InstanceMapping {
   // The bounding box of the model's active voxels: each placed exemplar's own box, shifted.
   openvdb::CoordBBox modelBounds(const openvdb::FloatGrid& density) const;
 
-  // A grid over the block set whose blocks are `unit` of its voxels on a side (the majorant grid:
-  // one value per kMajorantBlock^3 voxels), laid out as the model: the model's majorant.
-  openvdb::FloatGrid::Ptr modelGrid(const openvdb::FloatGrid& set_grid, int unit, const std::string& file) const;
+  // The box of the model's majorant voxels (one per `unit`^3 model voxels), which
+  // forEachInstancedMajorantSegment (instanced_majorant_traversal.h) walks without building them,
+  // and how many voxels that majorant would have: a grid of the block set whose voxels are `unit`
+  // of its voxels on a side (its majorant grid), counted as the layout places it.
+  openvdb::CoordBBox modelMajorantBox(const openvdb::FloatGrid& density, int unit) const;
+  std::uint64_t modelMajorantVoxelCount(const openvdb::FloatGrid& set_majorant, int unit) const;
 
   // Voxels of the model if it were built: the sum over placed blocks of their exemplar's active voxels.
   std::uint64_t modelVoxelCount(const openvdb::FloatGrid& density) const;
 
  private:
   static inline const openvdb::Coord kNowhere{-(1 << 29)};
+
+  // The sum over the layout's placed blocks of their exemplar's count (keyed by its block (e, 0, 0)).
+  std::uint64_t placedTotal(std::map<openvdb::Coord, std::uint64_t> per_exemplar) const;
 
   openvdb::Coord block_;
   int count_ = 0;
