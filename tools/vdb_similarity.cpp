@@ -28,7 +28,7 @@ constexpr const char* kTool = "vdb_similarity";
 constexpr const char* kExamples = R"(Examples:
   vdb_similarity --hg 0.9 --json                      one phase function: alpha, order, table as JSON
   vdb_similarity --hg 0.95 --alpha 0.2 --max-order 3
-  vdb_similarity --hg 0.9 --order-rule support --json  Algorithm 1's order rule as printed (§7.3)
+  vdb_similarity --hg 0.9 --order-rule support --json  the order rule of Algorithm 1 as printed (§7.3)
   vdb_similarity --table measured.txt --json > altered.json
   vdb_similarity cloud.vdb cloud_altered.vdb -v       a medium with hg_g (grid or metadata) or phase_table
   vdb_make_medium cloud -o - | vdb_similarity - - | vdb_render - -o fast.exr

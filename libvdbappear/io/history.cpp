@@ -6,7 +6,6 @@
 
 namespace vdbappear {
 
-namespace {
 std::string shellQuote(const std::string& arg) {
   if (!arg.empty() && arg.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
                                             "@%+=:,./-_") == std::string::npos)
@@ -15,7 +14,6 @@ std::string shellQuote(const std::string& arg) {
   for (char c : arg) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
   return quoted + "'";
 }
-}  // namespace
 
 std::string historyLine(const std::string& tool, int argc, const char* const* argv) {
   std::string line = fmt::format("{} {}:", tool, kVersion);

@@ -9,4 +9,7 @@ namespace vdbappear {
 // first word replaced by the tool name and arguments shell-quoted where needed.
 std::string historyLine(const std::string& tool, int argc, const char* const* argv);
 
+// arg as one word of a POSIX shell: as it is when it holds only safe characters, else in single quotes.
+std::string shellQuote(const std::string& arg);
+
 }  // namespace vdbappear
