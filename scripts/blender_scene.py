@@ -46,7 +46,8 @@ Unit conventions, matched to vdb_render (libvdbappear/render/*.h, docs/medium.md
   (M = the density grid's index-to-object linear part) so that the two coincide.
 * Environment: constant radiance R. World Background node colour (1,1,1) (or R,G,B with strength 1),
   strength R; the background closure weight is colour*strength and is the radiance seen along a ray.
-  With neither --env nor --sun the medium gets --env 1, as vdb_render does.
+  With neither --env nor --sun the medium gets vdb_render's default lights: --env 0.1 and
+  --sun 0.51,0.65,-0.565,3 (libvdbappear/render/scene_description.h, defaultLights).
 * Sun: DX,DY,DZ is the direction light travels, STRENGTH the irradiance on a plane facing it.
   Blender's sun energy is in W/m^2 (bpy.types.SunLight.energy) and, with angle 0, Cycles uses it
   unscaled (scene/light.cpp: invarea = 1 when the disc area is 0), so energy = STRENGTH. A light
@@ -526,8 +527,9 @@ def main():
         ob.matrix_world = Matrix.Translation(-(linear @ Vector((0.5, 0.5, 0.5))))
     vol.materials.append(medium_material(grids, hg_g))
 
-    env = a.env if a.env is not None else ([] if a.sun is not None else [1.0])
-    add_world(scene, env if env else [0.0])
+    if a.env is None and a.sun is None:  # vdb_render's defaultLights()
+        a.env, a.sun = [0.1], [0.51, 0.65, -0.565, 3.0]
+    add_world(scene, a.env if a.env is not None else [0.0])
     if a.sun is not None:
         add_sun(scene, a.sun)
     add_camera(scene, a)

@@ -27,7 +27,9 @@ constexpr const char* kExamples = R"(Examples:
   vdb_render twill_4x_lobes.vdb -o grad.exr --view +z --res 100 --aov dweights  (dI/dw per cluster and lobe)
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
-Without a light flag or scene lights, the medium is lit by a white sky (--env 1).
+Without a light flag or scene lights: a dim sky and a sun from the upper side (--env 0.1
+--sun 0.51,0.65,-0.565,3), which show a white smoke as well as a dark one. The white furnace
+(a white sky alone, the default before 2026-11-26) is --env 1.
 Without a camera, it is framed from +z (--view +z). Units: docs/rendering.md.)";
 
 // Flags as given on the command line; each one that was given overrides the scene file.
@@ -102,7 +104,7 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (app.count("--view")) scene.view = f.view;
   const nlohmann::json flag_lights = lightsOf(app, f);
   if (!flag_lights.empty()) scene.lights = flag_lights;
-  if (scene.lights.empty() && f.sh_lightgrid.empty()) scene.lights.push_back({{"type", "env"}, {"radiance", 1.0}});
+  if (scene.lights.empty() && f.sh_lightgrid.empty()) scene.lights = defaultLights();
   if (f.ground || app.count("--ground-height") || app.count("--ground-albedo")) {
     GroundDescription ground = scene.ground.value_or(GroundDescription());
     if (app.count("--ground-height")) ground.height = f.ground_height;

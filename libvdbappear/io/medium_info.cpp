@@ -108,8 +108,8 @@ void describeValues(const Medium& medium, MediumInfo& info) {
     info.albedo = albedo;
   } else {
     info.notes.push_back("no 'albedo' grid: albedo 1 everywhere, a white medium that absorbs nothing; under a white sky "
-                         "alone (vdb_render's default --env 1) it vanishes into the background, so the command below "
-                         "lights it with a dim sky and a sun");
+                         "alone (--env 1) it vanishes into the background, so the command below lights it with a dim "
+                         "sky and a sun (vdb_render's default lights)");
   }
   for (const GridRole& g : info.grids)
     if (!g.used) info.notes.push_back(fmt::format("grid '{}' is not read by any tool (see above)", g.name));

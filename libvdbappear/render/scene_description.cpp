@@ -170,6 +170,11 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
   }
 }
 
+nlohmann::json defaultLights() {
+  return nlohmann::json::array({{{"type", "env"}, {"radiance", 0.1}},
+                                {{"type", "sun"}, {"direction", {0.51, 0.65, -0.565}}, {"strength", 3.0}}});
+}
+
 SceneDescription readSceneFile(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open the scene file");

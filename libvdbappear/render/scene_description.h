@@ -48,6 +48,13 @@ struct SceneDescription {
   std::vector<MeshDescription> meshes;
 };
 
+// The lights of a render that names none (issue 26): a dim sky of 0.1 and a sun of irradiance 3
+// travelling along (0.51, 0.65, -0.565): from high on the side of -x and -y, so a terminator crosses
+// a medium seen from the default +z or from a three-quarter view. Under a white sky alone (the white
+// furnace, `--env 1`, the default until 2026-11-26), a medium of albedo 1 absorbs nothing and
+// vanishes into the background; here a white smoke and a dark absorbing one both show their shape.
+nlohmann::json defaultLights();
+
 // Reads a scene file; relative paths in it (medium, meshes, environment maps) are taken relative
 // to the file's folder. Throws std::runtime_error "FILE: KEY: what is wrong".
 SceneDescription readSceneFile(const std::string& path);

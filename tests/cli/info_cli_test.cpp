@@ -7,6 +7,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "support/image_footprint.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -118,49 +119,8 @@ TEST(InfoCli, NamesForeignGridsAndSaysTheyAreNotRead) {
 
 // The suggested command, run as given (with this build's vdb_render, a small image and an EXR with
 // alpha): the medium is framed (it covers part of the picture, not all of it), and a white smoke of
-// albedo 1 shows: its footprint (alpha > 0.5) differs from the sky behind it, and within the footprint
-// the means of 4x4-pixel tiles spread (structure, not only noise). Control: the same smoke and camera
-// under vdb_render's white sky alone (the white furnace): footprint and sky alike.
-struct Footprint {
-  double coverage = 0;  // share of pixels with alpha > 0.5
-  double contrast = 0;  // |mean inside - mean outside| / mean outside
-  double structure = 0; // relative standard deviation of the 4x4 tile means wholly inside
-};
-
-Footprint footprintOf(const std::string& exr) {
-  const ImageChannels image = readImageChannels(exr);
-  const int alpha = image.find("A");
-  EXPECT_GE(alpha, 0);
-  const std::size_t stride = image.names.size();
-  auto at = [&](int x, int y, int c) { return double(image.values[(std::size_t(y) * std::size_t(image.width) + std::size_t(x)) * stride + std::size_t(c)]); };
-  auto luminance = [&](int x, int y) { return (at(x, y, 0) + at(x, y, 1) + at(x, y, 2)) / 3; };
-  double inside = 0, n_inside = 0, outside = 0, n_outside = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) (at(x, y, alpha) > 0.5 ? inside : outside) += luminance(x, y), (at(x, y, alpha) > 0.5 ? n_inside : n_outside) += 1;
-  Footprint f;
-  f.coverage = n_inside / (n_inside + n_outside);
-  if (n_inside == 0 || n_outside == 0) return f;
-  f.contrast = std::abs(inside / n_inside - outside / n_outside) / (outside / n_outside);
-  std::vector<double> tiles;
-  for (int ty = 0; ty + 4 <= image.height; ty += 4)
-    for (int tx = 0; tx + 4 <= image.width; tx += 4) {
-      double sum = 0;
-      bool all_inside = true;
-      for (int y = ty; y < ty + 4; ++y)
-        for (int x = tx; x < tx + 4; ++x) {
-          all_inside = all_inside && at(x, y, alpha) > 0.5;
-          sum += luminance(x, y);
-        }
-      if (all_inside) tiles.push_back(sum / 16);
-    }
-  if (tiles.size() < 2) return f;
-  double mean = 0, var = 0;
-  for (double t : tiles) mean += t / double(tiles.size());
-  for (double t : tiles) var += (t - mean) * (t - mean) / double(tiles.size() - 1);
-  f.structure = std::sqrt(var) / mean;
-  return f;
-}
-
+// albedo 1 shows (test::footprintOf). Control: the same smoke and camera under a white sky alone (the
+// white furnace, --env 1): footprint and sky alike.
 TEST(InfoCli, SuggestedRenderFramesAndShowsAWhiteSmoke) {
   const TempDir dir;
   const std::string cloud = dir.path("cloud.vdb"), smoke = dir.path("smoke.vdb");
@@ -175,15 +135,15 @@ TEST(InfoCli, SuggestedRenderFramesAndShowsAWhiteSmoke) {
   command = kRender + command.substr(10, o - 10) + " -o " + quote(lit) + command.substr(after) + small;
   const auto r = runCommand(command);
   ASSERT_EQ(r.status, 0) << command << "\n" << r.err;
-  const Footprint shown = footprintOf(lit);
+  const test::Footprint shown = test::footprintOf(lit);
   EXPECT_GT(shown.coverage, 0.05) << command;
   EXPECT_LT(shown.coverage, 0.8) << command;
   EXPECT_GT(shown.contrast, 0.5) << command;
   EXPECT_GT(shown.structure, 0.15) << command;
   const std::size_t c = command.find(" --camera-pos");
   const std::string camera = command.substr(c, command.find(" --env") - c);
-  ASSERT_EQ(runCommand(kRender + " " + quote(smoke) + " -o " + quote(furnace) + camera + small).status, 0);
-  const Footprint hidden = footprintOf(furnace);
+  ASSERT_EQ(runCommand(kRender + " " + quote(smoke) + " -o " + quote(furnace) + camera + small + " --env 1").status, 0);
+  const test::Footprint hidden = test::footprintOf(furnace);
   EXPECT_LT(hidden.contrast, 0.02) << "the white furnace hides a white smoke";
   EXPECT_LT(hidden.structure, 0.05) << "the white furnace hides a white smoke";
 }

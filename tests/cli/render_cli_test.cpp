@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "support/image_footprint.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -32,6 +33,26 @@ TEST(RenderCli, HelpHasExamples) {
   ASSERT_EQ(help.status, 0);
   EXPECT_NE(help.out.find("Examples:"), std::string::npos);
   EXPECT_NE(help.out.find("--sh-light"), std::string::npos);
+}
+
+// The default lighting (defaultLights, issue 26) shows a white smoke: a density grid alone (albedo 1,
+// as a smoke cache holds it) framed from the default +z stands out from the sky and has structure.
+// Negative control: the old default, a white sky alone (the white furnace, now --env 1), hides it.
+TEST(RenderCli, DefaultLightingShowsAWhiteSmoke) {
+  const TempDir dir;
+  const std::string cloud = dir.path("cloud.vdb"), smoke = dir.path("smoke.vdb");
+  ASSERT_EQ(runCommand(quote(VDB_MAKE_MEDIUM) + " cloud --res 32 -o " + quote(cloud)).status, 0);
+  test::writeRawVdb(smoke, {readMedium(cloud)->density->deepCopy()});
+  const std::string lit = dir.path("lit.exr"), furnace = dir.path("furnace.exr");
+  const std::string flags = " --res 64x48 --spp 32 --aov alpha";
+  ASSERT_EQ(runCommand(kRender + " " + quote(smoke) + " -o " + quote(lit) + flags).status, 0);
+  ASSERT_EQ(runCommand(kRender + " " + quote(smoke) + " -o " + quote(furnace) + flags + " --env 1").status, 0);
+  const test::Footprint shown = test::footprintOf(lit), hidden = test::footprintOf(furnace);
+  EXPECT_GT(shown.coverage, 0.05);
+  EXPECT_GT(shown.contrast, 0.5);
+  EXPECT_GT(shown.structure, 0.15);
+  EXPECT_LT(hidden.contrast, 0.02);
+  EXPECT_LT(hidden.structure, 0.05);
 }
 
 TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
