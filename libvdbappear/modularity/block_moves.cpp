@@ -91,10 +91,6 @@ std::map<Coord, std::uint64_t> activeVoxelsPerBlock(const openvdb::FloatGrid& de
   return voxels;
 }
 
-openvdb::FloatGrid::Ptr moveFloatGrid(const openvdb::FloatGrid& grid, const BlockMoves& moves, const std::string& file) {
-  return moveGrid(grid, moves, file);
-}
-
 MediumPtr moveBlocks(const Medium& source, const BlockMoves& moves) {
   auto out = std::make_shared<Medium>();
   out->metadata = source.metadata;

@@ -24,7 +24,8 @@ inline openvdb::Coord blockOf(const openvdb::Coord& ijk, const openvdb::Coord& b
   return openvdb::Coord(floorDiv(ijk.x(), block.x()), floorDiv(ijk.y(), block.y()), floorDiv(ijk.z(), block.z()));
 }
 
-// Active density voxels per block (tiles counted whole, in the block of their first voxel).
+// Active voxels of a float grid (the density, a majorant) per block (tiles counted whole, in the
+// block of their first voxel).
 std::map<openvdb::Coord, std::uint64_t> activeVoxelsPerBlock(const openvdb::FloatGrid& density,
                                                              const openvdb::Coord& block);
 
@@ -33,8 +34,5 @@ std::map<openvdb::Coord, std::uint64_t> activeVoxelsPerBlock(const openvdb::Floa
 // copied as they are. Throws MediumError naming the file and the grid for an active voxel in a block
 // that `moves` does not list.
 MediumPtr moveBlocks(const Medium& source, const BlockMoves& moves);
-
-// One float grid moved the same way (the majorant of an instanced model). `file` names it in errors.
-openvdb::FloatGrid::Ptr moveFloatGrid(const openvdb::FloatGrid& grid, const BlockMoves& moves, const std::string& file);
 
 }  // namespace vdbappear
