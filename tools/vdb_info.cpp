@@ -1,6 +1,6 @@
 // vdb_info: what the tools make of a medium file (docs/medium.md; issue 26), like OpenVDB's
 // vdb_print for its own tools: grids used and not read, and why; box, voxel size, value ranges; a
-// vdb_render command line that frames and lights it.
+// vdb_render command line that frames it.
 #include "tool_main.h"
 
 #include "libvdbappear/io/medium_file.h"
@@ -59,7 +59,7 @@ void printInfo(const MediumInfo& info, const std::string& file) {
 
 int main(int argc, char** argv) {
   CLI::App app("Says what the tools make of a medium file: each grid's role or why no tool reads it, the world box, "
-               "voxel size, density and albedo ranges, and a vdb_render command line that frames and lights it.",
+               "voxel size, density and albedo ranges, and a vdb_render command line that frames it.",
                kTool);
   app.footer(kExamples);
   app.set_version_flag("--version", kVersion);

@@ -22,6 +22,17 @@ bool isLobeGridName(const std::string& name) {
   return std::regex_match(name, lobe);
 }
 
+openvdb::BBoxd worldBoxOfCells(const openvdb::math::Transform& transform, const openvdb::CoordBBox& voxels) {
+  openvdb::BBoxd box;
+  for (int corner = 0; corner < 8; ++corner) {
+    const openvdb::Vec3d index(corner & 1 ? voxels.max().x() + 0.5 : voxels.min().x() - 0.5,
+                               corner & 2 ? voxels.max().y() + 0.5 : voxels.min().y() - 0.5,
+                               corner & 4 ? voxels.max().z() + 0.5 : voxels.min().z() - 0.5);
+    box.expand(transform.indexToWorld(index));
+  }
+  return box;
+}
+
 void removeOtherGrid(Medium& medium, const std::string& name) {
   auto& grids = medium.other_grids;
   grids.erase(std::remove_if(grids.begin(), grids.end(), [&](const auto& g) { return g->getName() == name; }),

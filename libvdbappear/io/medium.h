@@ -75,6 +75,10 @@ typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name)
   return nullptr;
 }
 
+// The world-space box of the cells of the voxels in `voxels` (each voxel's cell reaches half a voxel
+// beyond its centre): the corners of the index box grown by 1/2, through the transform.
+openvdb::BBoxd worldBoxOfCells(const openvdb::math::Transform& transform, const openvdb::CoordBBox& voxels);
+
 // Drops the grids of other_grids with this name.
 void removeOtherGrid(Medium& medium, const std::string& name);
 

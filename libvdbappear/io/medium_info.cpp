@@ -80,22 +80,11 @@ void describeGrids(const Medium& medium, MediumInfo& info) {
 }
 
 void describeBox(const Medium& medium, MediumInfo& info) {
-  const openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
-  const openvdb::math::Transform& transform = medium.transform();
+  const openvdb::BBoxd world = worldBoxOfCells(medium.transform(), medium.density->evalActiveVoxelBoundingBox());
   for (int a = 0; a < 3; ++a) {
-    info.voxel_size[std::size_t(a)] = transform.voxelSize()[a];
-    info.world_min[std::size_t(a)] = std::numeric_limits<double>::infinity();
-    info.world_max[std::size_t(a)] = -std::numeric_limits<double>::infinity();
-  }
-  for (int corner = 0; corner < 8; ++corner) {
-    const openvdb::Vec3d index(corner & 1 ? box.max().x() + 0.5 : box.min().x() - 0.5,
-                               corner & 2 ? box.max().y() + 0.5 : box.min().y() - 0.5,
-                               corner & 4 ? box.max().z() + 0.5 : box.min().z() - 0.5);
-    const openvdb::Vec3d world = transform.indexToWorld(index);
-    for (int a = 0; a < 3; ++a) {
-      info.world_min[std::size_t(a)] = std::min(info.world_min[std::size_t(a)], world[a]);
-      info.world_max[std::size_t(a)] = std::max(info.world_max[std::size_t(a)], world[a]);
-    }
+    info.voxel_size[std::size_t(a)] = medium.transform().voxelSize()[a];
+    info.world_min[std::size_t(a)] = world.min()[a];
+    info.world_max[std::size_t(a)] = world.max()[a];
   }
 }
 
@@ -108,19 +97,17 @@ void describeValues(const Medium& medium, MediumInfo& info) {
     info.albedo = albedo;
   } else {
     info.notes.push_back("no 'albedo' grid: albedo 1 everywhere, a white medium that absorbs nothing; under a white sky "
-                         "alone (--env 1) it vanishes into the background, so the command below lights it with a dim "
-                         "sky and a sun (vdb_render's default lights)");
+                         "alone (--env 1) it vanishes into the background; vdb_render's default lights (a dim sky and "
+                         "a sun) show it");
   }
   for (const GridRole& g : info.grids)
     if (!g.used) info.notes.push_back(fmt::format("grid '{}' is not read by any tool (see above)", g.name));
 }
 
 // A three-quarter view from the front right, above, at the distance that fits the box's bounding
-// sphere in vdb_render's default 30-degree field of view; a dim sky and a sun from the camera's
-// upper left, a little from the front, so that a terminator crosses the medium: both a white
-// non-absorbing smoke and a dark absorbing one show their shape. (A sun from behind the camera
-// lights a cloud flat: on the white smoke of InfoCli.SuggestedRenderFramesAndShowsAWhiteSmoke the
-// 4x4-tile means of its footprint spread by 6.5%, against 49% with this sun.)
+// sphere in vdb_render's default 30-degree field of view. No light flags: vdb_render's default
+// lights (defaultLights, render/scene_description.h) come from the camera's upper left, so that a
+// terminator crosses the medium.
 void suggestRender(const std::string& file, MediumInfo& info) {
   double centre[3], radius2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -133,8 +120,7 @@ void suggestRender(const std::string& file, MediumInfo& info) {
   const std::filesystem::path path(file);
   const std::string stem = file == "-" ? "medium" : path.stem().string();
   info.render_command = fmt::format(
-      "vdb_render {} -o {} --camera-pos {:.4g},{:.4g},{:.4g} --camera-target {:.4g},{:.4g},{:.4g} --env 0.1 "
-      "--sun 0.51,0.65,-0.565,3",
+      "vdb_render {} -o {} --camera-pos {:.4g},{:.4g},{:.4g} --camera-target {:.4g},{:.4g},{:.4g}",
       shellQuote(file), shellQuote(stem + ".png"), centre[0] + distance * toward[0], centre[1] + distance * toward[1],
       centre[2] + distance * toward[2], centre[0], centre[1], centre[2]);
 }

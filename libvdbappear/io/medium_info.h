@@ -1,8 +1,8 @@
 #pragma once
 // What the tools make of a medium file (vdb_info; issue 26): each grid with its role in the medium
 // contract (docs/medium.md) or why no tool reads it, the world box, the voxel size, the value ranges
-// of density and albedo, and a vdb_render command line that frames and lights the medium so that a
-// white, non-absorbing smoke shows its structure. Light header.
+// of density and albedo, and a vdb_render command line that frames the medium (under vdb_render's
+// default lights a white, non-absorbing smoke shows its structure). Light header.
 
 #include <array>
 #include <cstdint>
@@ -34,7 +34,7 @@ struct MediumInfo {
   ValueRange density;
   std::optional<std::array<ValueRange, 3>> albedo;  // per channel; none: albedo 1 everywhere
   std::vector<std::string> notes;                   // what a user should know before rendering
-  std::string render_command;                       // vdb_render FILE -o NAME.png ... (POSIX-shell quoted)
+  std::string render_command;                       // vdb_render FILE -o NAME.png --camera-... (POSIX-shell quoted)
 };
 
 // `file` is the path the command line names (it appears in render_command).

@@ -92,14 +92,14 @@ void MediumView::Impl::findInstances() {
 void MediumView::Impl::findBounds() {
   const openvdb::CoordBBox box =
       instances ? instances->modelBounds(*medium->density) : medium->density->evalActiveVoxelBoundingBox();
-  for (int corner = 0; corner < 8; ++corner) {
-    const openvdb::Vec3d index((corner & 1 ? box.max().x() + 0.5 : box.min().x() - 0.5),
-                               (corner & 2 ? box.max().y() + 0.5 : box.min().y() - 0.5),
-                               (corner & 4 ? box.max().z() + 0.5 : box.min().z() - 0.5));
-    bounds.extend(toVec3(medium->transform().indexToWorld(index)));
-  }
-  const openvdb::CoordBBox m = instances ? instances->modelMajorantBox(*medium->density, kMajorantBlock)
-                                         : majorant->evalActiveVoxelBoundingBox();
+  const openvdb::BBoxd world = worldBoxOfCells(medium->transform(), box);
+  bounds.extend(toVec3(world.min()));
+  bounds.extend(toVec3(world.max()));
+  // An instanced model's majorant voxels (never built): its voxel box in blocks of kMajorantBlock.
+  const openvdb::Coord unit(kMajorantBlock);
+  const openvdb::CoordBBox m = !instances ? majorant->evalActiveVoxelBoundingBox()
+                               : box.empty() ? openvdb::CoordBBox()
+                                             : openvdb::CoordBBox(blockOf(box.min(), unit), blockOf(box.max(), unit));
   majorant_box = openvdb::math::BBox<openvdb::Vec3d>(m.min().asVec3d(), m.max().asVec3d() + openvdb::Vec3d(1.0));
 }
 

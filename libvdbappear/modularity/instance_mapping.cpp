@@ -69,13 +69,6 @@ openvdb::CoordBBox InstanceMapping::modelBounds(const openvdb::FloatGrid& densit
   return model;
 }
 
-openvdb::CoordBBox InstanceMapping::modelMajorantBox(const openvdb::FloatGrid& density, int unit) const {
-  const openvdb::CoordBBox voxels = modelBounds(density);
-  if (voxels.empty()) return voxels;
-  const Coord cell(unit, unit, unit);
-  return openvdb::CoordBBox(blockOf(voxels.min(), cell), blockOf(voxels.max(), cell));
-}
-
 std::uint64_t InstanceMapping::modelMajorantVoxelCount(const openvdb::FloatGrid& set_majorant, int unit) const {
   return placedTotal(activeVoxelsPerBlock(set_majorant, Coord(block_.x() / unit, block_.y() / unit, block_.z() / unit)));
 }

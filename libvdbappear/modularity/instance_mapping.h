@@ -39,11 +39,9 @@ class InstanceMapping {
   // The bounding box of the model's active voxels: each placed exemplar's own box, shifted.
   openvdb::CoordBBox modelBounds(const openvdb::FloatGrid& density) const;
 
-  // The box of the model's majorant voxels (one per `unit`^3 model voxels), which
-  // forEachInstancedMajorantSegment (instanced_majorant_traversal.h) walks without building them,
-  // and how many voxels that majorant would have: a grid of the block set whose voxels are `unit`
-  // of its voxels on a side (its majorant grid), counted as the layout places it.
-  openvdb::CoordBBox modelMajorantBox(const openvdb::FloatGrid& density, int unit) const;
+  // How many voxels the model's majorant would have if built (forEachInstancedMajorantSegment,
+  // instanced_majorant_traversal.h, walks it without building it): the block set's majorant grid,
+  // whose voxels are `unit` of its voxels on a side, counted as the layout places it.
   std::uint64_t modelMajorantVoxelCount(const openvdb::FloatGrid& set_majorant, int unit) const;
 
   // Voxels of the model if it were built: the sum over placed blocks of their exemplar's active voxels.
