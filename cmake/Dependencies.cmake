@@ -22,7 +22,9 @@ find_package(GTest REQUIRED)
 # Quadratic programming for the altered phase functions (similarity paper, Eq. 31). ALGLIB's config
 # sets ALGLIB_LIB and ALGLIB_INCLUDE_DIRS (headers in /usr/include/libalglib) instead of a target.
 find_package(ALGLIB REQUIRED)
-# OpenImageIO through pkg-config: its CMake config names a missing OpenCV include folder (build note 3).
+# OpenEXR files through OpenEXR itself (target OpenEXR::OpenEXR; image/exr_file.h).
+find_package(OpenEXR 3 REQUIRED CONFIG)
+# OpenImageIO (other image formats, a module loaded on demand) through pkg-config: its CMake config names a missing OpenCV include folder (build note 3).
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
 # Surfaces: Embree 3 (target `embree`) and meshes through Assimp (OBJ, PLY, ...).

@@ -15,6 +15,8 @@ install(TARGETS ${tools} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS vdbappear vdbappear_image vdbappear_openvdb EXPORT vdbappearTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# Loaded by libvdbappear_image from its own folder for formats other than OpenEXR.
+install(TARGETS vdbappear_oiio LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(DIRECTORY libvdbappear/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/libvdbappear FILES_MATCHING PATTERN "*.h")
 install(FILES ${PROJECT_BINARY_DIR}/libvdbappear/generated/libvdbappear/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/libvdbappear)

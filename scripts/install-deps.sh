@@ -17,8 +17,9 @@ packages=(
   libxxhash-dev
   # quadratic programming (the altered phase functions of vdb_similarity)
   libalglib-dev
-  # images (PNG previews, EXR): OpenImageIO, found through pkg-config (build note 3)
-  libopenimageio-dev
+  # images: EXR through OpenEXR; PNG previews and other formats through OpenImageIO, found
+  # through pkg-config (build note 3)
+  libopenexr-dev libopenimageio-dev
   # surfaces in renders: ray tracing kernels and mesh files (OBJ, PLY)
   libembree-dev libassimp-dev
   # tests

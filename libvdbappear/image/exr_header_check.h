@@ -1,5 +1,5 @@
 #pragma once
-// OpenEXR headers checked before OpenImageIO hands a file to OpenEXR (docs/reliability.md §2).
+// OpenEXR headers checked before OpenEXR reads a file (docs/reliability.md §2).
 
 #include <string>
 

@@ -1,6 +1,7 @@
 #pragma once
-// Writes images through OpenImageIO, atomically (temporary file, then rename). The format follows
-// the extension: .exr keeps linear floats (half precision); .png and others get 8-bit sRGB.
+// Image files, written atomically (temporary file, then rename). The format follows the extension:
+// .exr keeps linear floats (half precision), through OpenEXR; .png and others get 8-bit sRGB,
+// through OpenImageIO, loaded only when such a file is read or written (image/oiio_codec.h).
 
 #include "libvdbappear/image/rgb_image.h"
 
@@ -26,6 +27,7 @@ struct ImageChannels {
 // A 32-bit float OpenEXR file with these channels (zip compression), atomically.
 void writeExr(const ImageChannels& image, const std::string& path);
 // Every channel of an image file (EXR, PNG, ...) as floats (PNG: 0..1, sRGB-encoded as stored).
+// OpenEXR files (by their magic number) in OpenImageIO's channel order: R, G, B, A first.
 ImageChannels readImageChannels(const std::string& path);
 // The first three channels as RGB (one channel: grey); throws MediumError naming the file.
 RgbImage readRgbImage(const std::string& path);

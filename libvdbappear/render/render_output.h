@@ -1,6 +1,6 @@
 #pragma once
 // Writing a render: a linear float EXR with R, G, B and the requested AOVs, or an sRGB PNG, and an
-// optional PNG preview. Part of libvdbappear_image (OpenImageIO).
+// optional PNG preview. Part of libvdbappear_image.
 //
 // AOV channels: "A", the medium's alpha (the share of camera rays with a real collision in it: an
 // estimate of 1 - transmittance), "variance.R/G/B", the variance of each pixel's mean (sample

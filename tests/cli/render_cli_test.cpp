@@ -74,6 +74,23 @@ TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
   EXPECT_GT(json["paths_per_second"].get<double>(), 0);
 }
 
+// An EXR render never loads OpenImageIO, whose 260 shared libraries cost every process that links
+// it 0.4 s and 128 MB at start (docs/rendering.md §7); a PNG preview loads it, through the module
+// that lies next to libvdbappear_image. The dynamic loader's own log says what it loaded.
+TEST(RenderCli, OpenImageIOIsLoadedOnlyForFormatsOtherThanExr) {
+  const TempDir dir;
+  const std::string flags = " --res 8 --spp 1 -o " + quote(dir.path("a.exr"));
+  const auto exr = runCommand("LD_DEBUG=libs " + kRender + " " + kCube + flags);
+  ASSERT_EQ(exr.status, 0) << exr.err;
+  EXPECT_NE(exr.err.find("libvdbappear_image"), std::string::npos) << "no loader log";
+  EXPECT_EQ(exr.err.find("libOpenImageIO"), std::string::npos);
+  const auto png = runCommand("LD_DEBUG=libs " + kRender + " " + kCube + flags + " --preview " + quote(dir.path("a.png")));
+  ASSERT_EQ(png.status, 0) << png.err;
+  EXPECT_NE(png.err.find("libvdbappear_oiio.so"), std::string::npos);
+  EXPECT_NE(png.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_TRUE(exists(dir.path("a.png")));
+}
+
 TEST(RenderCli, SameImageWithOneThreadOrAll) {
   TempDir dir;
   const std::string a = dir.path("a.exr"), b = dir.path("b.exr");

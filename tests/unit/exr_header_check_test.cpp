@@ -1,5 +1,5 @@
 // image/exr_header_check.h: every attribute of an OpenEXR header must fit in the file before
-// OpenImageIO hands it to OpenEXR, which allocates what the file states.
+// OpenEXR reads it, since OpenEXR allocates what the file states.
 #include "libvdbappear/image/exr_header_check.h"
 #include "libvdbappear/util/error.h"
 

@@ -1,5 +1,6 @@
-// libFuzzer harness: environment maps (scene lights of type env_map) through OpenImageIO, as
-// OpenEXR files. OpenImageIO and OpenEXR are not instrumented (OpenEXR is fuzzed by OSS-Fuzz).
+// libFuzzer harness: environment maps (scene lights of type env_map) as OpenEXR files, read
+// through OpenEXR (OpenImageIO for other formats). Neither is instrumented (OpenEXR is fuzzed by
+// OSS-Fuzz).
 #include "fuzz/harnesses/fuzz_input.h"
 #include "libvdbappear/image/image_file.h"
 
