@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """vdb_render speed: paths per second and time to a fixed relative noise, on the twill (coloured, and
-all white) and the cloud at 256x256, side by side with Blender Cycles' CPU path tracer on the same
-VDB and scene.
+all white), the cloud, a thin HG sphere under a sky and a sun, and the cloud over a ground plane under
+a point light, side by side with Blender Cycles' CPU path tracer on the same VDB and scene.
 
 Noise is measured the same way for both renderers: two renders with different seeds, A and B;
 the per-pixel noise of one render is RMS(A - B) / sqrt(2), relative to the image mean. Noise falls
 as 1/sqrt(spp), so the time to reach a relative noise EPS is  t(spp) * (noise / EPS)^2.
-Cycles' time excludes its scene sync: it is rendered at two sample counts and the per-sample time
-is their difference (vdb_render's "seconds" likewise excludes reading the medium).
+vdb_render's time is its whole process (start-up, reading the medium, writing the image: what a
+user waits for, issue 19); its render time alone is reported beside it. Cycles' time excludes its
+scene sync: it is rendered at two sample counts and the per-sample time is their difference.
 
 Blender (Debian's blender 3.4) and python3-openvdb are installed with apt when missing and
 --no-blender is not given; they are never build or test dependencies.
@@ -17,7 +18,7 @@ Cycles gets premultiplied float grids sigma_s_r, _g, _b = rho * albedo (scripts/
 and uses sigma_s / rho as albedo: the same medium. On the coloured twill it also renders the albedo grid
 as given, for reference. Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
-       [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud]
+       [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud,thin,point-ground]
 """
 import argparse
 import json
@@ -27,10 +28,15 @@ import pathlib
 import shutil
 import subprocess
 import sys
+import time
 
 from debian_packages import apt_install
 
 SCENE = ["--env", "0.3", "--sun", "1,0.6,-1.2,3"]
+THIN_SCENE = ["--env", "1", "--sun", "0.51,0.65,-0.565,3"]   # issue 19's thin sphere: a sky of 1 and a sun
+POINT_SCENE = ["--env", "0.1", "--point-light", "1.2,-1.5,1.6,20"]  # irradiance about 3 at the cloud
+SCENES = {"thin": THIN_SCENE, "point-ground": POINT_SCENE}
+GROUND = {"point-ground"}  # media rendered over vdb_render's --ground (albedo 0.5 at the bottom of the bounds)
 MEDIA = {
     # name: (vdb_make_medium arguments, view, vdb_render flags for the shared scene, note)
     "twill": (["twill", "--res", "256"], "+z", ["--no-sggx"],
@@ -40,6 +46,13 @@ MEDIA = {
     "twill-white": (["twill", "--res", "256", "--warp-albedo", "1", "--weft-albedo", "1"], "+z", ["--no-sggx"],
                     "the twill with white yarns (per-fibre albedo 0.92 to 1): many more scattering events"),
     "cloud": (["cloud", "--res", "256"], "-y", [], "HG g = 0.9, albedo 0.98: the same scene in both renderers"),
+    "thin": (["sphere", "--res", "64", "--density", "1", "--variation", "0.99", "--phase", "hg", "--g", "0.5",
+              "--albedo", "0.9", "--size", "2"], "-y", [],
+             "a thin heterogeneous sphere (optical depth of a few units, HG g = 0.5, albedo 0.9) under a sky of 1 "
+             "and a sun of 3: few collisions, light that arrives after one bounce"),
+    "point-ground": (["cloud", "--res", "128"], "-y", ["--ground"],
+                     "the cloud (128^3) over a diffuse ground (albedo 0.5) under a point light of intensity 20 "
+                     "and a sky of 0.1: shadows on the ground, light from a point"),
 }
 
 
@@ -81,22 +94,36 @@ def noise_of(bin_dir, a, b):
 
 
 def bench_vdb_render(bin_dir, out, name, vdb, view, flags, label, args):
-    reports = []
+    reports, whole = [], []
     for seed in (1, 2):
         exr = out / f"{name}_{label}_{seed}.exr"
+        start = time.monotonic()
         run([str(bin_dir / "vdb_render"), str(vdb), "-o", str(exr), "--view", view, "--res", f"{args.res}",
              "--spp", str(args.spp), "--seed", str(seed), "--interp", "trilinear", "--report", str(exr) + ".json"]
-            + flags + SCENE)
+            + flags + SCENES.get(name, SCENE))
+        whole.append(time.monotonic() - start)
         reports.append(json.loads(pathlib.Path(str(exr) + ".json").read_text()))
     noise, mean = noise_of(bin_dir, out / f"{name}_{label}_1.exr", out / f"{name}_{label}_2.exr")
-    seconds = sum(r["seconds"] for r in reports) / 2
-    return {"renderer": label.replace("_", " "), "spp": args.spp, "seconds": seconds, "paths_per_second":
+    seconds = sum(whole) / 2
+    return {"renderer": label.replace("_", " "), "spp": args.spp, "seconds": seconds,
+            "render_seconds": sum(r["seconds"] for r in reports) / 2, "paths_per_second":
             sum(r["paths_per_second"] for r in reports) / 2, "relative_noise": noise, "mean": mean,
             "time_to_eps": seconds * (noise / args.eps) ** 2, "camera": reports[0]["camera"],
-            "scattering_events": reports[0]["mean_scattering_events"]}
+            "bounds": reports[0]["bounds"], "scattering_events": reports[0]["mean_scattering_events"]}
 
 
-def bench_cycles(bin_dir, out, name, vdb, camera, args, label="cycles", note=""):
+def ground_plane(bounds):
+    """vdb_render's --ground as a square for Cycles (render/scene_description.cpp, groundPlane)."""
+    lo, hi = bounds
+    extent = math.dist(lo, hi)
+    return [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2], 100 * max(1.0, extent)]
+
+
+def bench_cycles(bin_dir, out, name, vdb, vdb_render_row, args, label="cycles", note=""):
+    camera = vdb_render_row["camera"]
+    extra = SCENES.get(name, SCENE)
+    if name in GROUND:
+        extra = extra + ["--ground-plane", ",".join(map(str, ground_plane(vdb_render_row["bounds"])))]
     script = pathlib.Path(__file__).with_name("blender_scene.py")
 
     def render(spp, seed, exr):
@@ -105,7 +132,7 @@ def bench_cycles(bin_dir, out, name, vdb, camera, args, label="cycles", note="")
                "--camera-pos", ",".join(map(str, camera["position"])),
                "--camera-target", ",".join(map(str, camera["target"])),
                "--camera-up", ",".join(map(str, camera["up"])), "--fov", str(camera["fov"]),
-               "--threads", str(os.cpu_count()), "--openvdb-voxel-centres", "--force"] + SCENE
+               "--threads", str(os.cpu_count()), "--openvdb-voxel-centres", "--force"] + extra
         lines = run(cmd).stdout.splitlines()
         return json.loads(next(line for line in lines if line.startswith("{")))
 
@@ -142,7 +169,7 @@ def main():
     p.add_argument("--eps", type=float, default=0.02, help="target relative noise per pixel")
     p.add_argument("--res", type=int, default=256)
     p.add_argument("--no-blender", action="store_true")
-    p.add_argument("--media", default="twill,twill-white,cloud")
+    p.add_argument("--media", default="twill,twill-white,cloud,thin,point-ground")
     args = p.parse_args()
     bin_dir = pathlib.Path(args.build) / "bin"
     out = pathlib.Path(args.out)
@@ -158,9 +185,9 @@ def main():
         rows = [bench_vdb_render(bin_dir, out, name, vdb, view, flags, "vdb_render", args)]
         if blender:
             print(f"bench: {name}: Cycles", file=sys.stderr)
-            rows.append(bench_cycles(bin_dir, out, name, cycles_medium(vdb, out, name), rows[0]["camera"], args))
+            rows.append(bench_cycles(bin_dir, out, name, cycles_medium(vdb, out, name), rows[0], args))
             if name == "twill":  # Cycles' own reading of the albedo grid, for reference: a different medium
-                rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0]["camera"], args, "cycles_plain",
+                rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0], args, "cycles_plain",
                                          ", albedo grid as given"))
         if flags and name == "twill":
             rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, [], "vdb_render_SGGX", args))
@@ -168,7 +195,7 @@ def main():
 
     lines = [f"# vdb_render speed ({args.res}x{args.res}, relative noise target {args.eps:.0%}, "
              f"{os.cpu_count()} cores)\n",
-             "| medium | renderer | spp | seconds | paths/s | relative noise | time to target | image mean |",
+             "| medium | renderer | spp | seconds (vdb_render: whole process; Cycles: path tracing) | paths/s | relative noise | time to target | image mean |",
              "|---|---|---:|---:|---:|---:|---:|---:|"]
     for name, r in results.items():
         for row in r["rows"]:

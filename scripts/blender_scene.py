@@ -149,6 +149,11 @@ def parse_args():
     p.add_argument("--fov", type=float, default=30.0, help="vertical field of view, degrees")
     p.add_argument("--env", type=floats((1, 3)), help="constant environment radiance R or R,G,B")
     p.add_argument("--sun", type=floats((4,)), help="DX,DY,DZ,STRENGTH (direction of travel; irradiance)")
+    p.add_argument("--point-light", type=floats((4,)),
+                   help="X,Y,Z,INTENSITY: an isotropic point light, irradiance INTENSITY / r^2 at distance r")
+    p.add_argument("--ground-plane", type=floats((4,)),
+                   help="CX,CY,Z,HALF: a diffuse square z = Z centred on (CX, CY), half-side HALF (vdb_render --ground)")
+    p.add_argument("--ground-albedo", type=floats((1, 3)), default=[0.5], help="A or R,G,B (default 0.5)")
     p.add_argument("--threads", type=int, default=0, help="render threads (0: all cores)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--step-rate", type=float, default=1.0,
@@ -415,6 +420,49 @@ def add_sun(scene, sun):
     scene.collection.objects.link(ob)
 
 
+# Blender's point-light power P (W) for a radiant intensity of 1 W/sr: Cycles 3.4 gives a point light
+# of zero radius the intensity P / (4 pi). Measured (docs/rendering.md §7): a diffuse ground of
+# albedo 0.5, 3 below a point light of intensity 10, seen from straight above over a 4-degree field:
+# Cycles 0.17566 with this factor, vdb_render 0.17567, a I cos / (pi r^2) at the centre 0.17684.
+POINT_WATTS_PER_INTENSITY = 4 * math.pi
+
+
+def add_point_light(scene, point):
+    if not point[3] >= 0:
+        fail("--point-light: the intensity must be >= 0")
+    light = bpy.data.lights.new("point", "POINT")
+    light.energy = point[3] * POINT_WATTS_PER_INTENSITY
+    light.shadow_soft_size = 0.0  # a point, as vdb_render's
+    light.color = (1.0, 1.0, 1.0)
+    set_if(light, "use_shadow", True, "PointLight")
+    set_if(light.cycles, "max_bounces", 1024, "PointLight.cycles")
+    set_if(light.cycles, "cast_shadow", True, "PointLight.cycles")
+    ob = bpy.data.objects.new("point", light)
+    ob.location = Vector(point[:3])
+    scene.collection.objects.link(ob)
+
+
+def add_ground(scene, plane, albedo):
+    cx, cy, z, half = plane
+    mesh = bpy.data.meshes.new("ground")
+    mesh.from_pydata([(cx - half, cy - half, z), (cx + half, cy - half, z), (cx + half, cy + half, z),
+                      (cx - half, cy + half, z)], [], [(0, 1, 2, 3)])
+    mesh.update()
+    material = bpy.data.materials.new("ground")
+    material.use_nodes = True
+    nt = material.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    rgb = albedo * 3 if len(albedo) == 1 else albedo
+    diffuse.inputs["Color"].default_value = (rgb[0], rgb[1], rgb[2], 1.0)
+    diffuse.inputs["Roughness"].default_value = 0.0  # Lambertian
+    nt.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
+    mesh.materials.append(material)
+    ob = bpy.data.objects.new("ground", mesh)
+    scene.collection.objects.link(ob)
+
+
 def configure_render(scene, a):
     r = scene.render
     r.engine = "CYCLES"
@@ -527,11 +575,15 @@ def main():
         ob.matrix_world = Matrix.Translation(-(linear @ Vector((0.5, 0.5, 0.5))))
     vol.materials.append(medium_material(grids, hg_g))
 
-    if a.env is None and a.sun is None:  # vdb_render's defaultLights()
+    if a.env is None and a.sun is None and a.point_light is None:  # vdb_render's defaultLights()
         a.env, a.sun = [0.1], [0.51, 0.65, -0.565, 3.0]
     add_world(scene, a.env if a.env is not None else [0.0])
     if a.sun is not None:
         add_sun(scene, a.sun)
+    if a.point_light is not None:
+        add_point_light(scene, a.point_light)
+    if a.ground_plane is not None:
+        add_ground(scene, a.ground_plane, a.ground_albedo)
     add_camera(scene, a)
     configure_render(scene, a)
 
