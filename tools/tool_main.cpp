@@ -1,6 +1,7 @@
 #include "tool_main.h"
 
 #include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/util/error_line.h"
@@ -46,6 +47,24 @@ ThreadLimit::~ThreadLimit() = default;
 void ThreadLimit::apply() {
   if (threads_ > 0)
     control_ = std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads_);
+}
+
+void addGridMapping(CLI::App& app, GridMapping& mapping) {
+  app.add_option_function<std::vector<std::string>>(
+         "--grid",
+         [&mapping](const std::vector<std::string>& rules) {
+           for (const std::string& text : rules) {
+             try {
+               addGridRule(mapping, parseGridRule(text));
+             } catch (const std::invalid_argument& e) {
+               throw CLI::ValidationError("--grid", e.what());
+             }
+           }
+         },
+         "read foreign grids as the medium's: ROLE=GRID (albedo=Cd), albedo=R,G,B (three float grids), "
+         "ROLE=GRID:SCALE (density=density:0.5); repeatable; roles density, albedo, hg_g, sggx_diag, "
+         "sggx_offdiag (docs/medium.md section 12)")
+      ->type_name("ROLE=GRID");
 }
 
 void writeJsonReport(const std::string& path, const nlohmann::json& report) {

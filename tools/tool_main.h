@@ -11,6 +11,7 @@
 
 namespace vdbappear {
 struct MediumSummary;
+struct GridMapping;
 }
 
 namespace vdbappear::tool {
@@ -31,6 +32,10 @@ class ThreadLimit {
   int threads_ = 0;
   std::shared_ptr<void> control_;
 };
+
+// Adds --grid ROLE=GRID[,GRID,GRID][:SCALE], repeatable: the file's foreign grids read as the
+// medium's (io/grid_mapping.h), into `mapping`; a malformed rule or a role given twice is a flag error.
+void addGridMapping(CLI::App& app, GridMapping& mapping);
 
 // Writes `report` as indented JSON to `path` ("-": stdout), through a temporary file.
 void writeJsonReport(const std::string& path, const nlohmann::json& report);

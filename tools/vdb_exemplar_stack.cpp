@@ -3,6 +3,7 @@
 // blocks (§7 of Zhao et al. 2016, "Downsampling Scattering Parameters for Rendering Anisotropic Media").
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
@@ -45,6 +46,7 @@ grid, or JSON: [[[id, ...], ...], ...], sheets (z) of rows (y) of ids (x); a 2-D
 sheet; -1 leaves a block empty). See docs/modularity.md.)";
 
 struct Options {
+  GridMapping mapping;  // --grid
   std::string input, output, report, layout, order = "random", shape;
   std::uint64_t seed = 1;
   bool verbose = false, instanced = false;
@@ -96,7 +98,7 @@ int runCommand(const std::string& command, const Options& options, const std::st
   tool::checkOutputs(options.input, options.output, options.report);
   if (!options.layout.empty()) tool::checkDistinct(options.layout, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr in = readMedium(options.input);
+  const MediumPtr in = readMedium(options.input, options.mapping);
   const double read_seconds = clock.lap();
   MediumPtr out;
   nlohmann::json details;
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
                      "voxels up through the layout, in memory that grows with the block set, not the model");
   app.add_flag("-v,--verbose", options.verbose, "print voxel counts and timings to stderr");
   app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
+  tool::addGridMapping(app, options.mapping);
   tool::ThreadLimit threads(app);
 
   const std::string history = historyLine(kTool, argc, argv);

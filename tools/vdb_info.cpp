@@ -3,6 +3,7 @@
 // vdb_render command line that frames it.
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_info.h"
 #include "libvdbappear/version.h"
@@ -67,8 +68,10 @@ int main(int argc, char** argv) {
   bool json = false;
   app.add_option("MEDIUM", input, "medium (.vdb); - reads a VDB stream from stdin")->required();
   app.add_flag("--json", json, "print one JSON object instead of text");
+  GridMapping mapping;
+  tool::addGridMapping(app, mapping);
   return tool::run(app, argc, argv, [&] {
-    const MediumPtr medium = readMedium(input);
+    const MediumPtr medium = readMedium(input, mapping);
     const MediumInfo info = describeMedium(*medium, input);
     if (json)
       std::cout << infoJson(info, input).dump(2) << "\n";

@@ -2,6 +2,7 @@
 // (§5 and §6.2 of Zhao et al. 2016, "Downsampling Scattering Parameters for Rendering Anisotropic Media").
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/downsample/naive_downsample.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
@@ -33,6 +34,7 @@ each cluster's lobes ordered against a reference voxel (Eq. 13). A voxel with fe
 file's lobe_count has no active value in the other slots' grids. See docs/lobes.md.)";
 
 struct Options {
+  GridMapping mapping;  // --grid
   std::string input, output, report;
   MultiLobeOptions lobes;
   bool verbose = false;
@@ -76,7 +78,7 @@ void printSummary(const Options& options, const MultiLobeResult& result, double 
 int cluster(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr fine = readMedium(options.input);
+  const MediumPtr fine = readMedium(options.input, options.mapping);
   const double read_seconds = clock.lap();
 
   MultiLobeResult result;
@@ -163,6 +165,7 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", options.verbose, "print the error against the lobe count, the clusters and timings to stderr");
   app.add_option("--report", options.report,
                  "write a JSON report (error against lobe count, lobe counts chosen, clusters, timings) to this file");
+  tool::addGridMapping(app, options.mapping);
   tool::ThreadLimit threads(app);
 
   const std::string history = historyLine(kTool, argc, argv);

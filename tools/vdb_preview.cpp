@@ -1,6 +1,7 @@
 // vdb_preview: a quick picture of a medium (absorption-emission with local shadows), as PNG or EXR.
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/image/image_file.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/preview/projection_preview.h"
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--shadow", options.shadow_voxels, "shadow march length in voxels (0: no shadows)")
       ->check(CLI::Range(0.0, 1000.0))->capture_default_str();
+  GridMapping mapping;
+  tool::addGridMapping(app, mapping);
   tool::ThreadLimit threads(app);
 
   return tool::run(app, argc, argv, [&] {
@@ -53,7 +56,7 @@ int main(int argc, char** argv) {
     options.light = toVec3(light);
     if (options.view.norm() == 0 || options.light.norm() == 0) throw std::runtime_error("--view and --light must be non-zero");
     tool::checkOutputs(input, output, "");
-    const MediumPtr medium = readMedium(input);
+    const MediumPtr medium = readMedium(input, mapping);
     ProgressBar progress("preview", 0);
     writeImage(renderPreview(*medium, options, &progress), output);
     return 0;

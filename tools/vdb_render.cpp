@@ -1,6 +1,7 @@
 // vdb_render: an unbiased volumetric path tracer for media (docs/rendering.md).
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/sh_light_grid_file.h"
 #include "libvdbappear/lightgrid/sh_grid_lookup.h"
@@ -27,6 +28,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_render twill_4x_lobes.vdb -o grad.exr --view +z --res 100 --aov dweights  (dI/dw per cluster and lobe)
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
+  vdb_render houdini_smoke.vdb -o smoke.png --grid albedo=Cd --grid density=density:0.5   (foreign grid names)
 Without a light flag or scene lights: a dim sky and a sun from the upper side (--env 0.1
 --sun 0.51,0.65,-0.565,3), which show a white smoke as well as a dark one. The white furnace
 (a white sky alone, the default before 2026-11-26) is --env 1.
@@ -215,6 +217,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", kVersion);
   Flags flags;
   addFlags(app, flags);
+  GridMapping mapping;
+  tool::addGridMapping(app, mapping);
   tool::ThreadLimit threads(app);
 
   return tool::run(app, argc, argv, [&] {
@@ -229,7 +233,7 @@ int main(int argc, char** argv) {
     if (!flags.preview.empty()) checkWritable(flags.preview);
     std::shared_ptr<const MediumView> medium;
     if (!scene.medium.empty()) {
-      medium = std::make_shared<MediumView>(readMedium(scene.medium), scene.interpolation, flags.no_sggx);
+      medium = std::make_shared<MediumView>(readMedium(scene.medium, mapping), scene.interpolation, flags.no_sggx);
     }
     RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     if (!flags.sh_lightgrid.empty()) {

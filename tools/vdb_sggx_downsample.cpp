@@ -2,6 +2,7 @@
 // (Eq. 5-6 of Zhao et al. 2016, "Downsampling Scattering Parameters for Rendering Anisotropic Media").
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/downsample/naive_downsample.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
@@ -31,6 +32,7 @@ density: mean over the F^3 children, empty ones counting 0 (Eq. 6). albedo: dens
 (--s-weight density). See docs/downsampling.md.)";
 
 struct Options {
+  GridMapping mapping;  // --grid
   std::string input, output, report;
   DownsampleOptions downsample;
   bool verbose = false;
@@ -39,7 +41,7 @@ struct Options {
 int downsample(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr fine = readMedium(options.input);
+  const MediumPtr fine = readMedium(options.input, options.mapping);
   const double read_seconds = clock.lap();
 
   DownsampleResult result;
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
       ->default_str("count");
   app.add_flag("-v,--verbose", options.verbose, "print voxel counts, memory and timings to stderr");
   app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
+  tool::addGridMapping(app, options.mapping);
   tool::ThreadLimit threads(app);
 
   const std::string history = historyLine(kTool, argc, argv);

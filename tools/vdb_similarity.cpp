@@ -3,6 +3,7 @@
 // look the same.
 #include "tool_main.h"
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
@@ -44,6 +45,7 @@ relations hold for a reference albedo (docs/similarity.md). A per-voxel hg_g is 
 most --moment-tolerance. Tables read with --table: JSON ("table" array) or numbers, ascending mu.)";
 
 struct Options {
+  GridMapping mapping;  // --grid
   std::string input, output, report, table_file;
   std::optional<double> hg_g;
   MediumSimilarityOptions medium;
@@ -131,7 +133,7 @@ void printSummary(const MediumSimilarityResult& r, double seconds) {
 int alterMediumFile(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr input = readMedium(options.input);
+  const MediumPtr input = readMedium(options.input, options.mapping);
   const double read_seconds = clock.lap();
   MediumSimilarityResult result;
   {
@@ -208,6 +210,7 @@ int main(int argc, char** argv) {
   app.add_flag("--json", options.json, "one material: print the result as one JSON object");
   app.add_option("--report", options.report, "media: write a JSON report (tables, orders, errors, timings) to this file");
   app.add_flag("-v,--verbose", options.verbose, "media: print the tables and errors to stderr");
+  tool::addGridMapping(app, options.mapping);
   tool::ThreadLimit threads(app);
 
   const std::string history = historyLine(kTool, argc, argv);

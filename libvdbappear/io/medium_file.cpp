@@ -1,5 +1,6 @@
 #include "libvdbappear/io/medium_file.h"
 
+#include "libvdbappear/io/mapped_grids.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/io/vdb_read_error.h"
@@ -161,21 +162,24 @@ MediumPtr toMedium(VdbContents contents, const std::string& source) {
 
 }  // namespace
 
-MediumPtr readMedium(const std::string& path) {
+MediumPtr readMedium(const std::string& path, const GridMapping& mapping) {
   openvdb::initialize();
   if (path == kStdio) {
     if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
-    return readMediumStream(std::cin, "stdin");
+    return readMediumStream(std::cin, "stdin", mapping);
   }
-  MediumPtr medium = toMedium(readVdbFile(path), path);  // validates each grid as it is read
+  VdbContents contents = readVdbFile(path);  // validates each grid as it is read
+  contents.grids = applyGridMapping(contents.grids, mapping, path);
+  MediumPtr medium = toMedium(std::move(contents), path);
   validateAcrossGrids(*medium, path);
   return medium;
 }
 
-MediumPtr readMediumStream(std::istream& in, const std::string& source) {
+MediumPtr readMediumStream(std::istream& in, const std::string& source, const GridMapping& mapping) {
   openvdb::initialize();
   VdbContents contents = readVdbStream(in, source);
   for (const auto& grid : contents.grids) validateGrid(*grid, source);
+  contents.grids = applyGridMapping(contents.grids, mapping, source);
   MediumPtr medium = toMedium(std::move(contents), source);
   validateAcrossGrids(*medium, source);
   return medium;

@@ -25,11 +25,12 @@ std::optional<std::string> contractRole(const std::string& name) {
 }
 
 std::optional<std::string> foreignGridRole(const std::string& name) {
-  static constexpr const char* kNotRead = "not read: no tool maps it to the medium contract yet (issue 26)";
   if (name == "color" || name == "Cd")
-    return fmt::format("colour (Blender's smoke colour, Houdini's Cd), {}; the medium renders with 'albedo'", kNotRead);
+    return fmt::format("colour (Blender's volume colour, Houdini's Cd), not read unless mapped: where it is the "
+                       "single-scattering albedo, --grid albedo={} (docs/medium.md section 12)", name);
   if (name == "color_r" || name == "color_g" || name == "color_b")
-    return fmt::format("a channel of a Mantaflow smoke colour, {}; the medium renders with 'albedo'", kNotRead);
+    return "a channel of a Mantaflow smoke colour, not read: Mantaflow stores colour times density, so it is "
+           "not an albedo as it is (docs/medium.md section 12)";
   if (name == "flame" || name == "temperature" || name == "heat")
     return "fire (emission): the medium contract has no emission yet, so no tool renders it (issue 26)";
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)

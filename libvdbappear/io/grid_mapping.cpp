@@ -1,0 +1,83 @@
+#include "libvdbappear/io/grid_mapping.h"
+
+#include "libvdbappear/io/medium.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace vdbappear {
+
+namespace {
+
+// The roles a mapping may fill: the base grids of docs/medium.md §3.
+constexpr std::array<const char*, 5> kRoles = {grid_names::kDensity, grid_names::kAlbedo, grid_names::kSggxDiag,
+                                               grid_names::kSggxOffdiag, grid_names::kHgG};
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t end; (end = text.find(separator, start)) != std::string::npos; start = end + 1)
+    parts.push_back(text.substr(start, end - start));
+  parts.push_back(text.substr(start));
+  return parts;
+}
+
+double parseScale(const std::string& text, const std::string& rule) {
+  std::size_t used = 0;
+  double scale = 0;
+  try {
+    scale = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(scale) || !(scale > 0))
+    throw std::invalid_argument(fmt::format("'{}': the scale '{}' is not a number > 0", rule, text));
+  return scale;
+}
+
+}  // namespace
+
+GridRule parseGridRule(const std::string& text) {
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos)
+    throw std::invalid_argument(fmt::format("'{}': expected ROLE=GRID[,GRID,GRID][:SCALE]", text));
+  GridRule rule;
+  rule.role = text.substr(0, equals);
+  if (std::find(kRoles.begin(), kRoles.end(), rule.role) == kRoles.end())
+    throw std::invalid_argument(fmt::format("'{}': '{}' is not a grid of the medium contract ({})", text, rule.role,
+                                            fmt::join(kRoles, ", ")));
+  std::string sources = text.substr(equals + 1);
+  if (const std::size_t colon = sources.rfind(':'); colon != std::string::npos) {
+    rule.scale = parseScale(sources.substr(colon + 1), text);
+    sources.resize(colon);
+  }
+  rule.sources = split(sources, ',');
+  for (const std::string& source : rule.sources)
+    if (source.empty()) throw std::invalid_argument(fmt::format("'{}': a grid name is empty", text));
+  if (rule.sources.size() == 3 && rule.role != grid_names::kAlbedo)
+    throw std::invalid_argument(fmt::format("'{}': only albedo is made from three grids (R, G, B)", text));
+  if (rule.sources.size() != 1 && rule.sources.size() != 3)
+    throw std::invalid_argument(fmt::format("'{}': expected one grid, or three for albedo (R, G, B)", text));
+  return rule;
+}
+
+std::string gridRuleText(const GridRule& rule) {
+  std::string text = fmt::format("{}={}", rule.role, fmt::join(rule.sources, ","));
+  if (rule.scale != 1) text += fmt::format(":{}", rule.scale);
+  return text;
+}
+
+void addGridRule(GridMapping& mapping, GridRule rule) {
+  for (const GridRule& existing : mapping.rules)
+    if (existing.role == rule.role)
+      throw std::invalid_argument(fmt::format("'{}': {} is already mapped ('{}')", gridRuleText(rule), rule.role,
+                                              gridRuleText(existing)));
+  mapping.rules.push_back(std::move(rule));
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,35 @@
+#pragma once
+// Foreign grid names read as the medium contract's grids (docs/medium.md §12): a Houdini file's
+// `Cd` as `albedo`, a Mantaflow cache's `color_r`, `color_g`, `color_b` as the three channels of
+// `albedo`, a density scaled by 0.5. One mapping, applied as a file is read, serves every tool
+// (`--grid` in each tool's flags). Light header: no OpenVDB.
+
+#include <string>
+#include <vector>
+
+namespace vdbappear {
+
+// The contract grid `role` made from the file's grids `sources`, times `scale`: one grid of the
+// role's type (albedo: a float grid is grey), or three float grids as R, G, B (albedo only).
+struct GridRule {
+  std::string role;
+  std::vector<std::string> sources;
+  double scale = 1;
+};
+
+// The rules of one read, at most one per role. Empty: the grids are read as they are.
+struct GridMapping {
+  std::vector<GridRule> rules;
+};
+
+// Parses ROLE=GRID[,GRID,GRID][:SCALE] ("albedo=Cd", "albedo=color_r,color_g,color_b",
+// "density=density:0.5"). Throws std::invalid_argument with the reason.
+GridRule parseGridRule(const std::string& text);
+
+// The rule as parseGridRule reads it back.
+std::string gridRuleText(const GridRule& rule);
+
+// Adds a rule; throws std::invalid_argument if its role has one already.
+void addGridRule(GridMapping& mapping, GridRule rule);
+
+}  // namespace vdbappear

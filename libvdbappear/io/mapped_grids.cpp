@@ -1,0 +1,139 @@
+#include "libvdbappear/io/mapped_grids.h"
+
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+#include <openvdb/tools/ValueTransformer.h>
+
+#include <algorithm>
+#include <array>
+#include <set>
+#include <vector>
+
+namespace vdbappear {
+
+namespace {
+
+openvdb::GridBase::Ptr findGrid(const openvdb::GridPtrVec& grids, const std::string& name) {
+  const auto it = std::find_if(grids.begin(), grids.end(), [&](const auto& grid) { return grid->getName() == name; });
+  return it == grids.end() ? nullptr : *it;
+}
+
+// The error prefix of a rule: "in.vdb: --grid albedo=Cd".
+std::string ruleContext(const GridRule& rule, const std::string& source) {
+  return fmt::format("{}: --grid {}", source, gridRuleText(rule));
+}
+
+template <typename GridT>
+typename GridT::Ptr sourceOfType(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& name,
+                                 const std::string& source,
+                                 const std::string& expected = openvdb::typeNameAsString<typename GridT::ValueType>()) {
+  const openvdb::GridBase::Ptr grid = findGrid(grids, name);
+  if (!grid) {
+    std::vector<std::string> sorted;
+    for (const auto& g : grids) sorted.push_back(g->getName());
+    std::sort(sorted.begin(), sorted.end());
+    std::string names;
+    for (const auto& n : sorted) names += (names.empty() ? "" : ", ") + n;
+    throw MediumError(fmt::format("{}: no grid named '{}' (the file has {})", ruleContext(rule, source), name, names));
+  }
+  auto typed = openvdb::gridPtrCast<GridT>(grid);
+  if (!typed)
+    throw MediumError(fmt::format("{}: grid '{}' holds {} values, expected {}", ruleContext(rule, source), name,
+                                  grid->valueType(), expected));
+  return typed;
+}
+
+// A copy of `grid` named `role`, every value (background included) times `scale`.
+template <typename GridT>
+typename GridT::Ptr scaledCopy(const GridT& grid, const std::string& role, double scale) {
+  typename GridT::Ptr copy = grid.deepCopy();
+  copy->setName(role);
+  if (scale != 1) {
+    using ValueT = typename GridT::ValueType;
+    const auto factor = static_cast<float>(scale);
+    openvdb::tools::foreach(copy->beginValueAll(), [factor](const typename GridT::ValueAllIter& it) {
+      it.setValue(ValueT(it.getValue() * factor));
+    });
+    // The inactive values are scaled above; the root's background is not one of them.
+    copy->tree().root().setBackground(ValueT(copy->background() * factor), /*updateChildNodes=*/false);
+  }
+  return copy;
+}
+
+// Three float grids as the R, G, B of one Vec3 grid on the union of their active voxels.
+openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>& channels, const GridRule& rule,
+                                   const std::string& source) {
+  for (int c = 1; c < 3; ++c)
+    if (channels[c]->transform() != channels[0]->transform())
+      throw MediumError(fmt::format("{}: grids '{}' and '{}' have different transforms", ruleContext(rule, source),
+                                    channels[0]->getName(), channels[c]->getName()));
+  const auto factor = static_cast<float>(rule.scale);
+  auto rgb = openvdb::Vec3SGrid::create(openvdb::Vec3s(channels[0]->background(), channels[1]->background(),
+                                                       channels[2]->background()) * factor);
+  rgb->setName(rule.role);
+  rgb->setTransform(channels[0]->transform().copy());
+  for (const auto& channel : channels) rgb->tree().topologyUnion(channel->tree());
+  struct Fill {
+    std::array<openvdb::FloatGrid::ConstAccessor, 3> channels;
+    float factor;
+    void operator()(const openvdb::Vec3SGrid::ValueOnIter& it) const {
+      const openvdb::Coord ijk = it.getCoord();  // a tile's first voxel: the channels' tiles share it
+      it.setValue(openvdb::Vec3s(channels[0].getValue(ijk), channels[1].getValue(ijk), channels[2].getValue(ijk)) *
+                  factor);
+    }
+  };
+  openvdb::tools::foreach(rgb->beginValueOn(),
+                          Fill{{channels[0]->getConstAccessor(), channels[1]->getConstAccessor(),
+                                channels[2]->getConstAccessor()},
+                               factor},
+                          /*threaded=*/true, /*shareOp=*/false);
+  return rgb;
+}
+
+openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
+  namespace names = grid_names;
+  if (rule.sources.size() == 3) {
+    std::array<openvdb::FloatGrid::Ptr, 3> channels;
+    for (int c = 0; c < 3; ++c) channels[c] = sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources[c], source);
+    return rgbOfThree(channels, rule, source);
+  }
+  const std::string& name = rule.sources.front();
+  if (rule.role == names::kSggxDiag || rule.role == names::kSggxOffdiag)
+    return scaledCopy(*sourceOfType<openvdb::Vec3SGrid>(grids, rule, name, source), rule.role, rule.scale);
+  if (rule.role == names::kAlbedo) {
+    const openvdb::GridBase::Ptr grid = findGrid(grids, name);
+    if (auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return scaledCopy(*grey, rule.role, rule.scale);
+    return scaledCopy(*sourceOfType<openvdb::Vec3SGrid>(grids, rule, name, source, "vec3s or float"), rule.role,
+                      rule.scale);
+  }
+  return scaledCopy(*sourceOfType<openvdb::FloatGrid>(grids, rule, name, source), rule.role, rule.scale);
+}
+
+}  // namespace
+
+openvdb::GridPtrVec applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping,
+                                     const std::string& source) {
+  if (mapping.rules.empty()) return grids;
+  openvdb::GridPtrVec made;
+  std::set<std::string> replaced;
+  for (const GridRule& rule : mapping.rules) {
+    made.push_back(madeGrid(grids, rule, source));
+    try {
+      validateGrid(*made.back(), source);
+    } catch (const MediumError& e) {
+      throw MediumError(fmt::format("{} (made by --grid {})", e.what(), gridRuleText(rule)));
+    }
+    replaced.insert(rule.role);
+    replaced.insert(rule.sources.begin(), rule.sources.end());
+  }
+  openvdb::GridPtrVec result;
+  for (const auto& grid : grids)
+    if (!replaced.count(grid->getName())) result.push_back(grid);
+  result.insert(result.end(), made.begin(), made.end());
+  return result;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,113 @@
+// --grid ROLE=GRID (io/grid_mapping.h, docs/medium.md §12) from the command line: every tool that
+// reads media takes it; a Houdini-style `Cd` colours a render and reaches a downsampled file; a
+// mapping that names a missing grid or a malformed rule fails with one line and writes nothing.
+#include "libvdbappear/image/image_file.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+
+#include "cli/run_command.h"
+#include "support/medium_testing.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+#include <openvdb/tools/ValueTransformer.h>
+
+#include <algorithm>
+#include <filesystem>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::runCommand;
+using test::TempDir;
+
+// The golden cube with a red `Cd` on its density's voxels, as Houdini would name the colour.
+std::string cubeWithCd(const TempDir& dir) {
+  const MediumPtr cube = readMedium(std::string(GOLDEN_DIR) + "/cube8.vdb");
+  auto cd = test::namedGridLike<openvdb::Vec3SGrid>(*cube, "Cd");
+  cd->tree().topologyUnion(cube->density->tree());
+  openvdb::tools::foreach(cd->beginValueOn(), [](const openvdb::Vec3SGrid::ValueOnIter& it) {
+    it.setValue(openvdb::Vec3s(0.9f, 0.2f, 0.2f));
+  });
+  const std::string path = dir.path("cube_cd.vdb");
+  test::writeRawVdb(path, {cube->density->deepCopy(), cd});
+  return path;
+}
+
+double meanChannel(const RgbImage& image, int c) {
+  double sum = 0;
+  for (std::size_t i = c; i < image.pixels.size(); i += 3) sum += image.pixels[i];
+  return sum / (image.pixels.size() / 3);
+}
+
+TEST(GridMappingCli, EveryToolThatReadsMediaTakesGrid) {
+  for (const char* tool : {VDB_INFO, VDB_PREVIEW, VDB_RENDER, VDB_SGGX_DOWNSAMPLE, VDB_LOBE_CLUSTER, VDB_SIMILARITY,
+                           VDB_EXEMPLAR_STACK}) {
+    const auto help = runCommand(quote(tool) + " --help");
+    EXPECT_NE(help.out.find("--grid ROLE=GRID"), std::string::npos) << tool;
+  }
+}
+
+// A red Cd read as the albedo makes a red cube; without the mapping the cube is white (control).
+TEST(GridMappingCli, RenderSeesTheMappedColour) {
+  const TempDir dir;
+  const std::string input = cubeWithCd(dir), red = dir.path("red.exr"), white = dir.path("white.exr");
+  const std::string flags = " --res 16 --spp 8 --env 1 --view -x";
+  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(input) + " --grid albedo=Cd -o " + quote(red) + flags).status, 0);
+  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(input) + " -o " + quote(white) + flags).status, 0);
+  const RgbImage r = readRgbImage(red), w = readRgbImage(white);
+  EXPECT_GT(meanChannel(r, 0), 1.3 * meanChannel(r, 1));
+  EXPECT_NEAR(meanChannel(w, 0), meanChannel(w, 1), 1e-6);
+}
+
+// vdb_sggx_downsample writes the mapped albedo (the density-weighted mean of a constant: itself)
+// and no Cd grid.
+TEST(GridMappingCli, DownsampleWritesTheMappedGrid) {
+  const TempDir dir;
+  const std::string input = cubeWithCd(dir), out = dir.path("coarse.vdb");
+  const auto r = runCommand(quote(VDB_SGGX_DOWNSAMPLE) + " --factor 2 --grid albedo=Cd " + quote(input) + " " + quote(out));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const MediumPtr coarse = readMedium(out);
+  ASSERT_TRUE(coarse->albedo);
+  for (auto v = coarse->density->cbeginValueOn(); v; ++v)
+    EXPECT_LT(test::maxAbsDifference(coarse->albedo->tree().getValue(v.getCoord()), openvdb::Vec3s(0.9f, 0.2f, 0.2f)), 1e-6);
+  for (const auto& grid : coarse->other_grids) EXPECT_NE(grid->getName(), "Cd");
+  EXPECT_EQ(r.err.find("dropped grid 'Cd'"), std::string::npos) << r.err;
+}
+
+TEST(GridMappingCli, InfoReportsTheMappedAlbedo) {
+  const TempDir dir;
+  const auto r = runCommand(quote(VDB_INFO) + " " + quote(cubeWithCd(dir)) + " --grid albedo=Cd --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\"albedo\""), std::string::npos);
+  EXPECT_EQ(r.out.find("\"Cd\""), std::string::npos);
+}
+
+TEST(GridMappingCli, BadMappingsFailWithOneLineAndNoOutput) {
+  const TempDir dir;
+  const std::string input = cubeWithCd(dir), out = dir.path("out.exr");
+  const struct {
+    std::string flag, message;
+    int status;
+  } cases[] = {
+      {"--grid albedo=colour", input + ": --grid albedo=colour: no grid named 'colour' (the file has Cd, density)", 1},
+      {"--grid density=Cd", "--grid density=Cd: grid 'Cd' holds vec3s values, expected float", 1},
+      {"--grid colour=Cd", "'colour' is not a grid of the medium contract", -1},
+      {"--grid albedo=Cd --grid albedo=density", "albedo is already mapped", -1},
+      {"--grid density=density:0", "is not a number > 0", -1},
+  };
+  for (const auto& c : cases) {
+    const auto r = runCommand(quote(VDB_RENDER) + " " + quote(input) + " " + c.flag + " --res 4 --spp 1 -o " + quote(out));
+    EXPECT_NE(r.status, 0) << c.flag;
+    if (c.status > 0) {
+      EXPECT_EQ(r.status, c.status) << c.flag;
+      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.flag << ": " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.flag;
+  }
+}
+
+}  // namespace
+}  // namespace vdbappear

@@ -1,0 +1,160 @@
+// io/grid_mapping.h: foreign grids read as the medium contract's (docs/medium.md §12): the rule
+// syntax, each way of making a grid checked voxel by voxel against the file's grids, and one clear
+// error for each kind of bad mapping.
+#include "libvdbappear/io/grid_mapping.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/util/error.h"
+
+#include "support/medium_testing.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace vdbappear {
+namespace {
+
+using openvdb::Coord;
+using openvdb::Vec3s;
+using test::TempDir;
+
+GridMapping mappingOf(std::initializer_list<const char*> rules) {
+  GridMapping mapping;
+  for (const char* rule : rules) addGridRule(mapping, parseGridRule(rule));
+  return mapping;
+}
+
+std::string ruleError(const std::string& text) {
+  try {
+    parseGridRule(text);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// A foreign file: density 2 on a 4^3 block, a Houdini-style `Cd` (vec3s), three float colour
+// channels, and an int grid; the colour varies per voxel so a misplaced value shows.
+struct ForeignFile {
+  TempDir dir;
+  std::string path = dir.path("foreign.vdb");
+  ForeignFile(float colour_scale = 1) {
+    auto transform = openvdb::math::Transform::createLinearTransform(0.25);
+    auto density = openvdb::FloatGrid::create(0.0f);
+    auto cd = openvdb::Vec3SGrid::create(Vec3s(0.0f));
+    std::array<openvdb::FloatGrid::Ptr, 3> channel = {openvdb::FloatGrid::create(0.0f), openvdb::FloatGrid::create(0.0f),
+                                                      openvdb::FloatGrid::create(0.0f)};
+    auto ids = openvdb::Int32Grid::create(0);
+    for (int x = 0; x < 4; ++x)
+      for (int y = 0; y < 4; ++y)
+        for (int z = 0; z < 4; ++z) {
+          const Coord ijk(x, y, z);
+          density->tree().setValue(ijk, 2.0f);
+          cd->tree().setValue(ijk, colourAt(ijk) * colour_scale);
+          for (int c = 0; c < 3; ++c) channel[c]->tree().setValue(ijk, colourAt(ijk)[c]);
+          ids->tree().setValue(ijk, 1);
+        }
+    const char* names[] = {"density", "Cd", "color_r", "color_g", "color_b", "ids"};
+    openvdb::GridPtrVec grids = {density, cd, channel[0], channel[1], channel[2], ids};
+    for (std::size_t i = 0; i < grids.size(); ++i) {
+      grids[i]->setName(names[i]);
+      grids[i]->setTransform(transform);
+    }
+    test::writeRawVdb(path, grids);
+  }
+  static Vec3s colourAt(const Coord& ijk) { return Vec3s(0.1f + 0.2f * ijk.x(), 0.05f * ijk.y(), 0.9f - 0.1f * ijk.z()); }
+  std::string error(const GridMapping& mapping) const {
+    try {
+      readMedium(path, mapping);
+    } catch (const MediumError& e) {
+      return e.what();
+    }
+    return "read";
+  }
+};
+
+TEST(GridMapping, RulesParseAndPrintBack) {
+  const GridRule rgb = parseGridRule("albedo=color_r,color_g,color_b");
+  EXPECT_EQ(rgb.role, "albedo");
+  EXPECT_EQ(rgb.sources, (std::vector<std::string>{"color_r", "color_g", "color_b"}));
+  EXPECT_EQ(rgb.scale, 1);
+  const GridRule scaled = parseGridRule("density=density:0.5");
+  EXPECT_EQ(scaled.sources, (std::vector<std::string>{"density"}));
+  EXPECT_EQ(scaled.scale, 0.5);
+  for (const char* text : {"albedo=Cd", "albedo=color_r,color_g,color_b", "density=density:0.5", "hg_g=g:2"})
+    EXPECT_EQ(gridRuleText(parseGridRule(text)), text);
+}
+
+TEST(GridMapping, MalformedRulesSayWhy) {
+  EXPECT_NE(ruleError("albedo").find("expected ROLE=GRID"), std::string::npos);
+  EXPECT_NE(ruleError("colour=Cd").find("'colour' is not a grid of the medium contract"), std::string::npos);
+  EXPECT_NE(ruleError("density=a,b,c").find("only albedo is made from three grids"), std::string::npos);
+  EXPECT_NE(ruleError("albedo=a,b").find("expected one grid, or three"), std::string::npos);
+  EXPECT_NE(ruleError("albedo=").find("a grid name is empty"), std::string::npos);
+  for (const char* scale : {"density=density:0", "density=density:-1", "density=density:x", "density=density:nan"})
+    EXPECT_NE(ruleError(scale).find("is not a number > 0"), std::string::npos) << scale;
+  GridMapping mapping = mappingOf({"albedo=Cd"});
+  EXPECT_THROW(addGridRule(mapping, parseGridRule("albedo=color_r,color_g,color_b")), std::invalid_argument);
+}
+
+// albedo=Cd: the albedo is Cd voxel for voxel, and Cd is consumed (not kept as a foreign grid).
+TEST(GridMapping, OneVectorGridBecomesTheAlbedo) {
+  const ForeignFile file;
+  const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=Cd"}));
+  ASSERT_TRUE(medium->albedo);
+  for (auto v = medium->density->cbeginValueOn(); v; ++v)
+    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()));
+  for (const auto& grid : medium->other_grids) EXPECT_NE(grid->getName(), "Cd");
+  // Negative control: without the mapping, the medium is white.
+  EXPECT_FALSE(readMedium(file.path)->albedo);
+}
+
+// albedo=color_r,color_g,color_b: the three channels in order.
+TEST(GridMapping, ThreeFloatGridsBecomeTheAlbedosChannels) {
+  const ForeignFile file;
+  const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=color_r,color_g,color_b"}));
+  ASSERT_TRUE(medium->albedo);
+  for (auto v = medium->density->cbeginValueOn(); v; ++v)
+    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()));
+  EXPECT_EQ(medium->albedo->activeVoxelCount(), medium->density->activeVoxelCount());
+  for (const auto& grid : medium->other_grids) EXPECT_EQ(grid->getName().rfind("color_", 0), std::string::npos);
+  // Channels in another order land in other channels (the order is the rule's).
+  const MediumPtr swapped = readMedium(file.path, mappingOf({"albedo=color_b,color_g,color_r"}));
+  const Coord ijk(3, 1, 2);
+  EXPECT_EQ(swapped->albedo->tree().getValue(ijk)[0], ForeignFile::colourAt(ijk)[2]);
+}
+
+// density=density:0.5 and a grey albedo from one float grid.
+TEST(GridMapping, ScalesAndGreyAlbedo) {
+  const ForeignFile file;
+  const MediumPtr medium = readMedium(file.path, mappingOf({"density=density:0.5", "albedo=color_g"}));
+  EXPECT_EQ(medium->density->tree().getValue(Coord(1, 2, 3)), 1.0f);
+  const Coord ijk(0, 3, 0);
+  EXPECT_EQ(medium->albedo->tree().getValue(ijk), Vec3s(ForeignFile::colourAt(ijk)[1]));
+}
+
+TEST(GridMapping, BadMappingsFailNamingTheFileTheRuleAndTheGrid) {
+  const ForeignFile file;
+  const std::string missing = file.error(mappingOf({"albedo=colour"}));
+  EXPECT_NE(missing.find(file.path + ": --grid albedo=colour: no grid named 'colour' (the file has Cd, color_b, color_g, color_r, density, ids)"),
+            std::string::npos)
+      << missing;
+  const std::string type = file.error(mappingOf({"albedo=ids"}));
+  EXPECT_NE(type.find("--grid albedo=ids: grid 'ids' holds int32 values, expected vec3s or float"), std::string::npos) << type;
+  const std::string three = file.error(mappingOf({"albedo=color_r,Cd,color_b"}));
+  EXPECT_NE(three.find("grid 'Cd' holds vec3s values, expected float"), std::string::npos) << three;
+  const std::string density = file.error(mappingOf({"density=Cd"}));
+  EXPECT_NE(density.find("expected float"), std::string::npos) << density;
+  // Values the role does not allow: the albedo 2 Cd would give.
+  const ForeignFile bright(2.0f);
+  const std::string range = bright.error(mappingOf({"albedo=Cd"}));
+  EXPECT_NE(range.find("grid 'albedo': albedo"), std::string::npos) << range;
+  EXPECT_NE(range.find("outside [0,1]"), std::string::npos) << range;
+  EXPECT_NE(range.find("(made by --grid albedo=Cd)"), std::string::npos) << range;
+}
+
+}  // namespace
+}  // namespace vdbappear
