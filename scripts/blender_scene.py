@@ -403,21 +403,29 @@ def add_world(scene, env):
     return world
 
 
+def add_light(scene, kind, energy):
+    """A white light of Blender type `kind` ("SUN", "POINT") that casts shadows through every bounce;
+    returns its object, linked into the scene."""
+    light = bpy.data.lights.new(kind.lower(), kind)
+    light.energy = energy
+    light.color = (1.0, 1.0, 1.0)
+    label = kind.capitalize() + "Light"
+    set_if(light, "use_shadow", True, label)
+    set_if(light.cycles, "max_bounces", 1024, label + ".cycles")
+    set_if(light.cycles, "cast_shadow", True, label + ".cycles")
+    ob = bpy.data.objects.new(kind.lower(), light)
+    scene.collection.objects.link(ob)
+    return ob
+
+
 def add_sun(scene, sun):
     d = Vector(sun[:3])
     if d.length == 0:
         fail("--sun: direction is zero")
-    light = bpy.data.lights.new("sun", "SUN")
-    light.energy = sun[3]          # W/m^2 = irradiance on a plane facing the light
-    light.angle = 0.0              # a delta (directional) light, as vdb_render's
-    light.color = (1.0, 1.0, 1.0)
-    set_if(light, "use_shadow", True, "SunLight")
-    set_if(light.cycles, "max_bounces", 1024, "SunLight.cycles")
-    set_if(light.cycles, "cast_shadow", True, "SunLight.cycles")
-    ob = bpy.data.objects.new("sun", light)
+    ob = add_light(scene, "SUN", sun[3])  # W/m^2 = irradiance on a plane facing the light
+    ob.data.angle = 0.0                   # a delta (directional) light, as vdb_render's
     # A light shines along its local -Z: rotate -Z onto the direction of travel.
     ob.matrix_world = d.normalized().to_track_quat("-Z", "Y").to_matrix().to_4x4()
-    scene.collection.objects.link(ob)
 
 
 # Blender's point-light power P (W) for a radiant intensity of 1 W/sr: Cycles 3.4 gives a point light
@@ -430,16 +438,9 @@ POINT_WATTS_PER_INTENSITY = 4 * math.pi
 def add_point_light(scene, point):
     if not point[3] >= 0:
         fail("--point-light: the intensity must be >= 0")
-    light = bpy.data.lights.new("point", "POINT")
-    light.energy = point[3] * POINT_WATTS_PER_INTENSITY
-    light.shadow_soft_size = 0.0  # a point, as vdb_render's
-    light.color = (1.0, 1.0, 1.0)
-    set_if(light, "use_shadow", True, "PointLight")
-    set_if(light.cycles, "max_bounces", 1024, "PointLight.cycles")
-    set_if(light.cycles, "cast_shadow", True, "PointLight.cycles")
-    ob = bpy.data.objects.new("point", light)
+    ob = add_light(scene, "POINT", point[3] * POINT_WATTS_PER_INTENSITY)
+    ob.data.shadow_soft_size = 0.0  # a point, as vdb_render's
     ob.location = Vector(point[:3])
-    scene.collection.objects.link(ob)
 
 
 def add_ground(scene, plane, albedo):

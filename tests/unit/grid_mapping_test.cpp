@@ -76,6 +76,13 @@ struct ForeignFile {
   }
 };
 
+// Wherever there is density, the medium's albedo is the file's colour, voxel for voxel.
+void expectAlbedoIsTheColour(const Medium& medium) {
+  ASSERT_TRUE(medium.albedo);
+  for (auto v = medium.density->cbeginValueOn(); v; ++v)
+    EXPECT_EQ(medium.albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord())) << v.getCoord();
+}
+
 TEST(GridMapping, RulesParseAndPrintBack) {
   const GridRule rgb = parseGridRule("albedo=color_r,color_g,color_b");
   EXPECT_EQ(rgb.role, "albedo");
@@ -104,9 +111,7 @@ TEST(GridMapping, MalformedRulesSayWhy) {
 TEST(GridMapping, OneVectorGridBecomesTheAlbedo) {
   const ForeignFile file;
   const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=Cd"}));
-  ASSERT_TRUE(medium->albedo);
-  for (auto v = medium->density->cbeginValueOn(); v; ++v)
-    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()));
+  expectAlbedoIsTheColour(*medium);
   for (const auto& grid : medium->other_grids) EXPECT_NE(grid->getName(), "Cd");
   // Negative control: without the mapping, the medium is white.
   EXPECT_FALSE(readMedium(file.path)->albedo);
@@ -116,9 +121,7 @@ TEST(GridMapping, OneVectorGridBecomesTheAlbedo) {
 TEST(GridMapping, ThreeFloatGridsBecomeTheAlbedosChannels) {
   const ForeignFile file;
   const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=color_r,color_g,color_b"}));
-  ASSERT_TRUE(medium->albedo);
-  for (auto v = medium->density->cbeginValueOn(); v; ++v)
-    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()));
+  expectAlbedoIsTheColour(*medium);
   EXPECT_EQ(medium->albedo->activeVoxelCount(), medium->density->activeVoxelCount());
   for (const auto& grid : medium->other_grids) EXPECT_EQ(grid->getName().rfind("color_", 0), std::string::npos);
   // Channels in another order land in other channels (the order is the rule's).
