@@ -160,7 +160,8 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_flag("--no-sggx", f.no_sggx, "ignore the SGGX grids (S = I: isotropic extinction and scattering), to compare "
                "with renderers that lack SGGX");
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");
-  app.add_option("--strategy", f.strategy, "light estimator: mis (default), light or phase");
+  app.add_option("--strategy", f.strategy,
+                 "light estimator: auto (default: MIS, smooth skies by phase sampling alone), mis, light or phase");
   app.add_option("--sh-lightgrid", f.sh_lightgrid,
                  "direct light of the area lights from this SH light grid (vdb_sh_lightgrid) instead of sampling every "
                  "area light; shadowed by the medium toward the grid's dominant direction")
@@ -185,6 +186,7 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
   const double n = double(r.mean.size());
   nlohmann::json report = {{"tool", kTool}, {"version", kVersion}, {"medium", scene.medium},
                            {"resolution", {r.width, r.height}}, {"spp", r.spp}, {"seed", scene.render.seed},
+                           {"strategy", lightStrategyName(scene.render.path.strategy)},
                            {"seconds", r.seconds}, {"paths", r.paths},
                            {"paths_per_second", r.seconds > 0 ? r.paths / r.seconds : 0.0},
                            {"mean_scattering_events", r.paths ? double(r.scattering_events) / r.paths : 0.0},

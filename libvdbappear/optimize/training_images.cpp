@@ -57,7 +57,7 @@ std::string referenceKey(const std::string& full_hash, const TrainingConfig& con
       {"seed", s.reference_seed},
       {"max_depth", s.path.max_depth},
       {"roulette_depth", s.path.roulette_depth},
-      {"strategy", int(s.path.strategy)},
+      {"strategy", lightStrategyName(s.path.strategy)},
       {"version", kVersion}};
   return hashText(key.dump());
 }

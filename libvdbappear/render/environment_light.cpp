@@ -39,6 +39,20 @@ void EnvironmentLight::buildDistribution(const std::vector<double>& weights, int
   distribution_ = PiecewiseConstant2D(f, width, height);
 }
 
+void EnvironmentLight::measurePeakToMean(const std::vector<double>& weights, int width, int height) {
+  double sum = 0, solid_angle = 0, peak = 0;
+  for (int v = 0; v < height; ++v) {
+    const double cos_elevation = std::cos(kPi * (0.5 - (v + 0.5) / height));
+    for (int u = 0; u < width; ++u) {
+      const double w = weights[std::size_t(v) * width + u];
+      sum += w * cos_elevation;
+      solid_angle += cos_elevation;
+      peak = std::max(peak, w);
+    }
+  }
+  peak_to_mean_ = sum > 0 ? peak / (sum / solid_angle) : 1.0;
+}
+
 std::unique_ptr<EnvironmentLight> EnvironmentLight::fromImage(int width, int height, std::vector<float> rgb,
                                                               double scale) {
   if (width < 1 || height < 1 || rgb.size() != std::size_t(width) * height * 3)
@@ -55,6 +69,7 @@ std::unique_ptr<EnvironmentLight> EnvironmentLight::fromImage(int width, int hei
     weights[i] = (std::abs(rgb[3 * i]) + std::abs(rgb[3 * i + 1]) + std::abs(rgb[3 * i + 2])) / 3;
   }
   light->rgb_ = std::move(rgb);
+  light->measurePeakToMean(weights, width, height);
   light->buildDistribution(weights, width, height);
   return light;
 }
@@ -75,6 +90,7 @@ std::unique_ptr<EnvironmentLight> EnvironmentLight::sphericalHarmonic(int l, int
       weights[std::size_t(v) * width + u] = std::abs(vdbappear::sphericalHarmonic(l, m, w));
       max_weight = std::max(max_weight, weights[std::size_t(v) * width + u]);
     }
+  light->measurePeakToMean(weights, width, height);
   for (double& weight : weights) weight += 0.05 * max_weight;
   light->buildDistribution(weights, width, height);
   return light;

@@ -31,6 +31,12 @@ class EnvironmentLight final : public Light {
 
   bool isDelta() const override { return false; }
   bool isEnvironment() const override { return true; }
+  // Smooth: the largest radiance at most kSmoothPeakToMean times the average over the sphere
+  // (mean of RGB; for SH lights of |radiance|). 1 for a constant sky, 2 for a band-1 SH light, 2.6
+  // for Y_20; a sky with a sun in it is in the hundreds.
+  static constexpr double kSmoothPeakToMean = 4;
+  bool isSmooth() const override { return peak_to_mean_ <= kSmoothPeakToMean; }
+  double peakToMean() const { return peak_to_mean_; }
   LightSample sample(const Vec3& p, const Point2& u) const override;
   double pdf(const Vec3& p, const Vec3& wi) const override;
   Rgb radiance(const Vec3& w) const override;
@@ -43,12 +49,15 @@ class EnvironmentLight final : public Light {
   enum class Kind { kConstant, kImage, kSphericalHarmonic };
   EnvironmentLight() = default;
   void buildDistribution(const std::vector<double>& weights, int width, int height);
+  // peak_to_mean_ of lat-long weights, each weighing its cell's solid angle (cos elevation).
+  void measurePeakToMean(const std::vector<double>& weights, int width, int height);
 
   Kind kind_ = Kind::kConstant;
   Rgb constant_ = Rgb::Zero();
   int width_ = 0, height_ = 0;
   std::vector<float> rgb_;
   double scale_ = 1;
+  double peak_to_mean_ = 1;
   int l_ = 0, m_ = 0;
   PiecewiseConstant2D distribution_;  // over (u, v); unused for kConstant (uniform sphere)
 };

@@ -29,6 +29,11 @@ class Light {
   virtual bool isDelta() const = 0;
   virtual bool isEnvironment() const { return false; }
   virtual bool isArea() const { return false; }  // polygons hit as surfaces (AreaLight)
+  // Radiance within a small factor of its average over the sphere (a constant or overcast sky, low
+  // SH bands). Phase or BRDF sampling, whose pdf follows f, then estimates its light with bounded
+  // weights (f L / pdf = albedo L where unshadowed), and sampling the light as well mostly adds a
+  // shadow ray: LightStrategy::kAuto leaves smooth lights to phase sampling.
+  virtual bool isSmooth() const { return false; }
   virtual LightSample sample(const Vec3& p, const Point2& u) const = 0;
   // Solid-angle density with which sample(p, .) returns wi (environment lights; area lights use
   // AreaLight::pdf with the hit point).

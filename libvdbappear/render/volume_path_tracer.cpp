@@ -14,10 +14,21 @@
 namespace vdbappear {
 
 LightStrategy parseLightStrategy(const std::string& name) {
+  if (name == "auto") return LightStrategy::kAuto;
   if (name == "mis") return LightStrategy::kMis;
   if (name == "light") return LightStrategy::kLightOnly;
   if (name == "phase") return LightStrategy::kPhaseOnly;
-  throw std::invalid_argument("light strategy '" + name + "': expected mis, light or phase");
+  throw std::invalid_argument("light strategy '" + name + "': expected auto, mis, light or phase");
+}
+
+const char* lightStrategyName(LightStrategy strategy) {
+  switch (strategy) {
+    case LightStrategy::kAuto: return "auto";
+    case LightStrategy::kMis: return "mis";
+    case LightStrategy::kLightOnly: return "light";
+    case LightStrategy::kPhaseOnly: return "phase";
+  }
+  return "?";
 }
 
 VolumePathTracer::VolumePathTracer(const RenderScene& scene, const PathSettings& settings) : scene_(scene), settings_(settings) {
@@ -59,6 +70,26 @@ double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double dist
   return lookup ? lookup->transmittance(p, w, distance, rng) : 1.0;
 }
 
+// Smooth lights under kAuto (Light::isSmooth): phase sampling (or the BRDF's cosine sampling) has
+// a pdf proportional to f, so its weight f L / pdf is the albedo times L wherever the light is
+// unshadowed, bounded by the light's peak, while light sampling weighs each direction by f / pdf_L.
+// Leaving such lights to phase sampling saves a shadow ray per vertex and lowers the variance per
+// path besides (measured in docs/rendering.md §7).
+bool VolumePathTracer::samplesLight(const Light& light) const {
+  if (light.isDelta()) return true;
+  switch (settings_.strategy) {
+    case LightStrategy::kPhaseOnly: return false;
+    case LightStrategy::kAuto: return !light.isSmooth();
+    default: return true;
+  }
+}
+
+double VolumePathTracer::phaseSampledWeight(const Light& light, double phase_pdf, double light_pdf) const {
+  if (!samplesLight(light)) return 1;  // phase sampling alone reaches it
+  if (settings_.strategy == LightStrategy::kLightOnly) return 0;
+  return powerHeuristic(phase_pdf, light_pdf);
+}
+
 // Next-event estimation: one sample of every light (one shadow ray each), each MIS-weighted against
 // the vertex's own sampling. Sampling every light rather than picking one removes the variance of
 // the pick: on the SGGX twill under a sun and a sky it cut the time to equal noise 1.46x
@@ -71,7 +102,7 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomS
   std::array<Rgb, ScatteringFunction::kMaxLobes> per_lobe;
   for (const auto& light : scene_.lights) {
     const Point2 u = rng.uniform2();  // drawn for every light, so streams stay aligned
-    if (!light->isDelta() && settings_.strategy == LightStrategy::kPhaseOnly) continue;
+    if (!samplesLight(*light)) continue;
     if (from_grid && light->isArea()) continue;  // the grid stands for the area lights
     const LightSample ls = light->sample(vertex.p, u);
     if (!(ls.pdf > 0) || (ls.Li == 0).all()) continue;
@@ -80,7 +111,7 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomS
     const double T = transmittance(vertex.origin(), ls.wi, ls.distance, rng, lookup);
     if (!(T > 0)) continue;
     double weight = 1;
-    if (!ls.is_delta && settings_.strategy == LightStrategy::kMis) weight = powerHeuristic(ls.pdf, vertex.pdf(ls.wi));
+    if (!ls.is_delta && settings_.strategy != LightStrategy::kLightOnly) weight = powerHeuristic(ls.pdf, vertex.pdf(ls.wi));
     const Rgb light_weight = ls.Li * (T * weight / ls.pdf);
     L += f * light_weight;
     if (gradients) gradients->addLightThroughVertex(vertex.scattering(), per_lobe.data(), beta, f, light_weight);
@@ -120,11 +151,7 @@ Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool came
   for (const auto& light : scene_.lights) {
     if (!light->isEnvironment()) continue;
     const Rgb Le = light->radiance(ray.d);
-    if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
-      L += Le;
-    } else if (settings_.strategy == LightStrategy::kMis) {
-      L += Le * powerHeuristic(prev_pdf, light->pdf(ray.o, ray.d));
-    }
+    L += camera_ray ? Le : Rgb(Le * phaseSampledWeight(*light, prev_pdf, light->pdf(ray.o, ray.d)));
   }
   return L;
 }
@@ -159,12 +186,8 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
       const Rgb Le = light.emitted(hit->normal, -ray.d);
       if (prev_from_grid) break;  // its direct light came from the SH grid
-      Rgb Le_weighted = Rgb::Zero();
-      if (camera_ray || settings_.strategy == LightStrategy::kPhaseOnly) {
-        Le_weighted = Le;
-      } else if (settings_.strategy == LightStrategy::kMis) {
-        Le_weighted = Le * powerHeuristic(prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal));
-      }
+      const Rgb Le_weighted =
+          camera_ray ? Le : Rgb(Le * phaseSampledWeight(light, prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal)));
       result.L += beta * Le_weighted;
       if (gradients) gradients->addLight(Le_weighted);
       break;

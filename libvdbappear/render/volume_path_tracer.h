@@ -14,17 +14,19 @@
 
 namespace vdbappear {
 
-// Which estimator reaches non-delta lights: both combined by MIS (the default), light sampling
-// only, or phase/BRDF sampling only. All three converge to the same image (tested); delta lights
-// are always reached by light sampling.
-enum class LightStrategy { kMis, kLightOnly, kPhaseOnly };
-LightStrategy parseLightStrategy(const std::string& name);  // "mis" | "light" | "phase"
+// Which estimator reaches non-delta lights: both combined by MIS, light sampling only, or
+// phase/BRDF sampling only; kAuto (the default) is MIS except for smooth lights (a constant sky, low
+// SH bands: Light::isSmooth), which phase/BRDF sampling alone reaches. All four converge to the same
+// image (tested); delta lights are always reached by light sampling.
+enum class LightStrategy { kAuto, kMis, kLightOnly, kPhaseOnly };
+LightStrategy parseLightStrategy(const std::string& name);  // "auto" | "mis" | "light" | "phase"
+const char* lightStrategyName(LightStrategy strategy);
 
 struct PathSettings {
   int max_depth = -1;        // scattering events (medium and surface) per path; -1: unlimited
   int roulette_depth = 4;    // Russian roulette on the throughput after this many events (16, 8, 4,
                              // 2 and 1 measured on the coloured twill: 2 to 8 are best, 16 is 14% slower)
-  LightStrategy strategy = LightStrategy::kMis;
+  LightStrategy strategy = LightStrategy::kAuto;
 };
 
 struct PathSample {
@@ -51,6 +53,10 @@ class VolumePathTracer {
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
   double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
   Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const;
+  // Whether next-event estimation samples the light (delta lights always), and the weight of the
+  // light when a phase- or BRDF-sampled direction of density phase_pdf reaches it instead.
+  bool samplesLight(const Light& light) const;
+  double phaseSampledWeight(const Light& light, double phase_pdf, double light_pdf) const;
 
   const RenderScene& scene_;
   PathSettings settings_;

@@ -88,6 +88,27 @@ TEST(EnvironmentLight, SphericalHarmonicSamplingMatchesItsPdfAndKeepsTheSign) {
   }
 }
 
+// Smoothness (LightStrategy::kAuto leaves smooth lights to phase sampling): the peak over the
+// mean of |radiance| over the sphere, in closed form for a constant sky (1), |Y_1m| (2) and |Y_20|
+// (2 / (4 / (3 sqrt 3)) = 2.60); a sky of 1 with a sun 500 times brighter in one of 64x32 cells is not
+// smooth.
+TEST(EnvironmentLight, SmoothnessIsThePeakOverTheMean) {
+  EXPECT_DOUBLE_EQ(EnvironmentLight::constant(Rgb::Constant(0.3))->peakToMean(), 1.0);
+  EXPECT_TRUE(EnvironmentLight::constant(Rgb::Constant(0.3))->isSmooth());
+  for (const int m : {-1, 0, 1}) {
+    const auto band1 = EnvironmentLight::sphericalHarmonic(1, m, 2.0);
+    EXPECT_NEAR(band1->peakToMean(), 2.0, 0.02) << "m = " << m;
+    EXPECT_TRUE(band1->isSmooth());
+  }
+  EXPECT_NEAR(EnvironmentLight::sphericalHarmonic(2, 0, 1.0)->peakToMean(), 3 * std::sqrt(3.0) / 2, 0.03);
+  const int width = 64, height = 32;
+  std::vector<float> rgb(std::size_t(width) * height * 3, 1.0f);
+  for (int c = 0; c < 3; ++c) rgb[(std::size_t(8) * width + 20) * 3 + c] = 500.0f;
+  const auto sunny = EnvironmentLight::fromImage(width, height, rgb, 1.0);
+  EXPECT_GT(sunny->peakToMean(), 100.0);
+  EXPECT_FALSE(sunny->isSmooth());
+}
+
 TEST(SphericalHarmonics, OrthonormalAndConventional) {
   // Midpoint rule in (cos theta, phi): exact in phi, O(1/n^2) in cos theta for these polynomials.
   const int lmax = 4, count = shCount(lmax), n_z = 2000, n_phi = 64;
