@@ -16,9 +16,12 @@ Cycles interpolates the albedo grid on its own, which mixes the empty voxels' al
 and it samples Vec3 grids at other points than float grids; vdb_render weights albedo by density. So
 Cycles gets premultiplied float grids sigma_s_r, _g, _b = rho * albedo (scripts/premultiply_albedo.py)
 and uses sigma_s / rho as albedo: the same medium. On the coloured twill it also renders the albedo grid
-as given, for reference. Results: bench-out/render_report.md and .json.
+as given, for reference. vdb_render also renders each medium with --strategy mis (--before), the
+estimator of lights before issue 19's changes, so that the gain of the default shows in the same run.
+Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
        [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud,thin,point-ground]
+       [--before mis|none]
 """
 import argparse
 import json
@@ -170,6 +173,8 @@ def main():
     p.add_argument("--res", type=int, default=256)
     p.add_argument("--no-blender", action="store_true")
     p.add_argument("--media", default="twill,twill-white,cloud,thin,point-ground")
+    p.add_argument("--before", default="mis", help="vdb_render --strategy of a row to compare the default with "
+                   "(the estimator before issue 19's changes); 'none' for no such row")
     args = p.parse_args()
     bin_dir = pathlib.Path(args.build) / "bin"
     out = pathlib.Path(args.out)
@@ -189,6 +194,10 @@ def main():
             if name == "twill":  # Cycles' own reading of the albedo grid, for reference: a different medium
                 rows.append(bench_cycles(bin_dir, out, name, vdb, rows[0], args, "cycles_plain",
                                          ", albedo grid as given"))
+        if args.before != "none":
+            print(f"bench: {name}: vdb_render --strategy {args.before}", file=sys.stderr)
+            rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, flags + ["--strategy", args.before],
+                                         f"vdb_render_--strategy_{args.before}", args))
         if flags and name == "twill":
             rows.append(bench_vdb_render(bin_dir, out, name, vdb, view, [], "vdb_render_SGGX", args))
         results[name] = {"note": note, "rows": rows}
@@ -206,6 +215,11 @@ def main():
     for name, r in results.items():
         rows = r["rows"]
         lines.append(f"- {name}: {r['note']}.")
+        for before in (row for row in rows if "--strategy" in row["renderer"]):
+            lines.append(f"  vdb_render against {before['renderer']}: {before['time_to_eps'] / rows[0]['time_to_eps']:.2f}x "
+                         f"less time to the same noise, {rows[0]['paths_per_second'] / before['paths_per_second']:.2f}x "
+                         f"the paths per second, {before['relative_noise'] ** 2 / rows[0]['relative_noise'] ** 2:.2f}x "
+                         f"less variance at the same spp.")
         for cycles in (row for row in rows if row["renderer"].startswith("Cycles")):
             ratio = cycles["time_to_eps"] / rows[0]["time_to_eps"]
             diff = (cycles["mean"] - rows[0]["mean"]) / rows[0]["mean"]

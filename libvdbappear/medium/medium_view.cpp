@@ -399,11 +399,10 @@ double MediumLookup::extinction(const Vec3& p, const Vec3& w) {
 ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Accessors& a = *accessors_;
   const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
-  const openvdb::Coord v = discreteVoxel(a, view_.interpolation, p);
-  const openvdb::Coord ijk = a.at(v);  // for the lobe and cluster grids, read directly below
   ScatteringFunction f;
   PhaseLobe lobe;
   if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
+    const openvdb::Coord ijk = a.at(discreteVoxel(a, view_.interpolation, p));  // lobe and cluster grids: read directly
     lobe.kind = PhaseKind::kSggx;
     for (std::size_t slot = 0; slot < a.lobes.size(); ++slot) {
       LobeAccessors& l = a.lobes[slot];
@@ -424,6 +423,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Mat3 S = Mat3::Zero();
   double g = 0;
   if (view_.interpolation == Interpolation::kNearest) {
+    const openvdb::Coord v = nearestVoxel(p);
     albedo = a.albedoAt(v);
     if (view_.phase_source == PhaseSource::kSggx) S = a.S(v);
     if (view_.phase_source == PhaseSource::kHgGrid) g = a.hgAt(v);
@@ -450,7 +450,9 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       break;
     case PhaseSource::kTable:
       lobe.kind = PhaseKind::kTabulated;
-      lobe.table = &view_.tables[a.phase_id ? a.tableId(v, view_.phase_id->background()) : 0];
+      lobe.table = &view_.tables[a.phase_id ? a.tableId(discreteVoxel(a, view_.interpolation, p),
+                                                        view_.phase_id->background())
+                                            : 0];
       break;
     case PhaseSource::kHgGrid:
     case PhaseSource::kHgConstant:
