@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render lobes similarity lightgrid optimize modularity clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity clean
 
 all: build
 
@@ -60,6 +60,11 @@ bench: build
 # vdb_render against Blender Cycles (installs Debian's blender for itself when missing).
 bench-render: build
 	@scripts/bench_render.py --build $(BUILD_DIR)
+
+# The weight optimisation's training renders: restricted-mean noise and seconds per set (bench/training_set_bench.cpp).
+bench-training: build
+	@mkdir -p bench-out && $(BUILD_DIR)/bin/training_set_bench --benchmark_out=bench-out/training_set_bench.json \
+		--benchmark_out_format=json
 
 # Multi-lobe fits: error against lobe count (twill, velvet) and renders against full resolution.
 lobes: build

@@ -108,7 +108,7 @@ def bench_vdb_render(bin_dir, out, name, vdb, view, flags, label, args):
         reports.append(json.loads(pathlib.Path(str(exr) + ".json").read_text()))
     noise, mean = noise_of(bin_dir, out / f"{name}_{label}_1.exr", out / f"{name}_{label}_2.exr")
     seconds = sum(whole) / 2
-    return {"renderer": label.replace("_", " "), "spp": args.spp, "seconds": seconds,
+    return {"renderer": "vdb_render" + label[len("vdb_render"):].replace("_", " "), "spp": args.spp, "seconds": seconds,
             "render_seconds": sum(r["seconds"] for r in reports) / 2, "paths_per_second":
             sum(r["paths_per_second"] for r in reports) / 2, "relative_noise": noise, "mean": mean,
             "time_to_eps": seconds * (noise / args.eps) ** 2, "camera": reports[0]["camera"],
