@@ -84,19 +84,30 @@ double ScatteringFunction::pdf(const Vec3& wi, const Vec3& wo) const {
   return p;
 }
 
-ScatterSample ScatteringFunction::sample(const Vec3& wi, double u_lobe, const Point2& u) const {
+ScatterSample ScatteringFunction::sample(const Vec3& wi, double u_lobe, const Point2& u, Rgb* per_lobe) const {
   if (lobe_count_ == 0) return {};
   int j = 0;
   for (double cdf = pick_probability_[0]; j + 1 < lobe_count_ && u_lobe >= cdf; cdf += pick_probability_[++j]) {
   }
   if (lobe_count_ == 1) {
     const PhaseSample s = lobes_[0].sample(wi, u);
+    if (per_lobe) evalLobes(wi, s.wo, per_lobe);
     return {s.wo, s.pdf, s.pdf > 0 ? Rgb(weights_[0] * s.weight) : Rgb(Rgb::Zero())};
   }
   const PhaseSample s = lobes_[j].sample(wi, u);
   if (!(s.pdf > 0)) return {};
-  const double pdf_all = pdf(wi, s.wo);
-  return {s.wo, pdf_all, pdf_all > 0 ? Rgb(eval(wi, s.wo) / pdf_all) : Rgb(Rgb::Zero())};
+  // pdf and eval over all lobes from one evaluation of each lobe (the sums of pdf() and evalLobes()).
+  double pdf_all = 0;
+  Rgb f = Rgb::Zero();
+  for (int k = 0; k < lobe_count_; ++k) {
+    const bool weighted = (weights_[k] > 0).any();
+    const double phase = weighted || pick_probability_[k] > 0 ? lobes_[k].eval(wi, s.wo) : 0.0;
+    if (pick_probability_[k] > 0) pdf_all += pick_probability_[k] * phase;
+    const Rgb term = weighted ? Rgb(weights_[k] * phase) : Rgb(Rgb::Zero());
+    if (per_lobe) per_lobe[k] = term;
+    f += term;
+  }
+  return {s.wo, pdf_all, pdf_all > 0 ? Rgb(f / pdf_all) : Rgb(Rgb::Zero())};
 }
 
 }  // namespace vdbappear

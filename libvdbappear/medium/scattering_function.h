@@ -66,8 +66,9 @@ class ScatteringFunction {
   // weight, so pdf = sum_j P(j) f_j.
   double pdf(const Vec3& wi, const Vec3& wo) const;
   // u_lobe picks the lobe; u samples the direction from it. weight = eval / pdf over all lobes
-  // (one-sample MIS across lobes: lower variance than W_j / P(j)).
-  ScatterSample sample(const Vec3& wi, double u_lobe, const Point2& u) const;
+  // (one-sample MIS across lobes: lower variance than W_j / P(j)). per_lobe, when given, receives
+  // evalLobes' terms at the sampled direction, from the same phase evaluations (gradient images).
+  ScatterSample sample(const Vec3& wi, double u_lobe, const Point2& u, Rgb* per_lobe = nullptr) const;
 
  private:
   void updatePickProbabilities();

@@ -52,10 +52,11 @@ struct VolumePathTracer::Vertex {
   Rgb eval(const Vec3& wo, Rgb* per_lobe) const { return on_surface ? eval(wo) : medium.evalLobes(wi, wo, per_lobe); }
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const { return on_surface ? cosineHemispherePdf(normal.dot(wo)) : medium.pdf(wi, wo); }
-  ScatterSample sample(RandomStream& rng) const {
+  // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
+  ScatterSample sample(RandomStream& rng, Rgb* per_lobe = nullptr) const {
     const double u_lobe = rng.uniform();
     const Point2 u = rng.uniform2();
-    if (!on_surface) return medium.sample(wi, u_lobe, u);
+    if (!on_surface) return medium.sample(wi, u_lobe, u, per_lobe);
     const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
     const double pdf = cosineHemispherePdf(normal.dot(wo));
     return {wo, pdf, pdf > 0 ? albedo : Rgb(Rgb::Zero())};
@@ -208,13 +209,10 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     // The grid stands for the area lights inside its box; outside it they are sampled as usual.
     prev_from_grid = scene_.sh_lights && scene_.sh_lights->contains(vertex.p);
     result.L += beta * sampleDirect(vertex, prev_from_grid, rng, lookup, beta, gradients);
-    const ScatterSample s = vertex.sample(rng);
+    std::array<Rgb, ScatteringFunction::kMaxLobes> per_lobe;
+    const ScatterSample s = vertex.sample(rng, gradients ? per_lobe.data() : nullptr);
     if (!(s.pdf > 0) || (s.weight <= 0).all()) break;
-    if (gradients) {
-      std::array<Rgb, ScatteringFunction::kMaxLobes> per_lobe;
-      if (!vertex.on_surface) vertex.medium.evalLobes(vertex.wi, s.wo, per_lobe.data());
-      gradients->scatter(vertex.scattering(), per_lobe.data(), beta, s.weight, s.pdf);
-    }
+    if (gradients) gradients->scatter(vertex.scattering(), per_lobe.data(), beta, s.weight, s.pdf);
     beta *= s.weight;
     prev_pdf = s.pdf;
     ray = {vertex.p, s.wo};
