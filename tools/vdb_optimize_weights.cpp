@@ -23,8 +23,8 @@ constexpr const char* kExamples = R"(Examples:
   vdb_lobe_cluster -f 4 --clusters 5 --jitter 0.02 ball.vdb - | vdb_optimize_weights ball.vdb - - | vdb_render - -o b.exr
   scripts/plot_convergence.py run.jsonl convergence.png
 
-FULL is the full-resolution medium (a file: its bytes address the reference cache), LOBES the
-output of vdb_lobe_cluster on it. OUT is LOBES with every lobe{j}_weight multiplied by the factor
+FULL is the full-resolution medium (a file: its bytes, with the --grid mapping its foreign grids are
+read with, address the reference cache), LOBES the output of vdb_lobe_cluster on it. OUT is LOBES with every lobe{j}_weight multiplied by the factor
 of its voxel's cluster (Eq. 12; Eq. 19 with colour scales) and the metadata weight_factors; any
 renderer that reads lobes renders it. Training: the views of --training-views x the lights of
 --training-lights (default: from above, over a ground; the paper's set is --training-views faces
@@ -87,6 +87,7 @@ void addFlags(CLI::App& app, Flags& f) {
       ->check(CLI::ExistingFile);
   app.add_option("--report", f.report, "write a JSON report; - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print the factors, errors and timings to stderr");
+  tool::addGridMapping(app, o.full_mapping);  // FULL's grids; LOBES is vdb_lobe_cluster's output
 }
 
 void printSummary(const WeightOptimizationResult& result) {

@@ -54,6 +54,16 @@ std::string statusOf(const WeightOptimizer& optimizer) {
                      r.E, largest_step, r.relative_change);
 }
 
+// What addresses FULL in the reference cache and the checkpoints: its bytes, and the grid mapping it
+// was read with, if any (a mapping makes another medium of the same file).
+std::string fullMediumKey(const WeightOptimizationOptions& options) {
+  const std::string bytes = hashFile(options.full);
+  if (options.full_mapping.rules.empty()) return bytes;
+  std::string key = bytes;
+  for (const GridRule& rule : options.full_mapping.rules) key += " --grid " + gridRuleText(rule);
+  return hashText(key);
+}
+
 }  // namespace
 
 WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& options,
@@ -61,7 +71,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   const Stopwatch total_clock;
   if (options.full == "-")
     throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
-  const MediumPtr full = readMedium(options.full);
+  const MediumPtr full = readMedium(options.full, options.full_mapping);
   const MediumPtr lobes = readMedium(options.lobes);
   const LobeMediumLayout layout = inspectLobeMedium(*lobes);
   const int factor = downsamplingFactor(*full, *lobes);
@@ -77,7 +87,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
 
   // References: from the cache, else rendered and stored.
   Stopwatch clock;
-  const std::string full_hash = hashFile(options.full);
+  const std::string full_hash = fullMediumKey(options);
   const ReferenceCache cache(options.cache);
   std::vector<TrainingImage> images;
   {

@@ -5,6 +5,7 @@
 // every iteration, and write LOBES with optimised lobe weights and the metadata `weight_factors`.
 // Light header.
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/medium/interpolation.h"
 #include "libvdbappear/optimize/training_images.h"
 #include "libvdbappear/optimize/weight_optimizer.h"
@@ -19,6 +20,7 @@ namespace vdbappear {
 
 struct WeightOptimizationOptions {
   std::string full, lobes, output;        // FULL (a file), LOBES and OUT (files, or "-")
+  GridMapping full_mapping;               // how FULL's foreign grids are read (--grid, io/grid_mapping.h)
   std::optional<ColourMode> mode;         // none: colour scales if LOBES's weights are coloured, else grey
   OptimizerSettings optimizer;            // its mode is set from `mode`
   // The training set (optimize/training_set.h, docs/optimize.md §3): by default views from above

@@ -117,6 +117,31 @@ TEST(OptimizeWeightsCli, SecondRunFindsTheReferencesInTheCache) {
   EXPECT_NE(r.err.find("references: 20 of 20 from the cache"), std::string::npos) << r.err;
 }
 
+// --grid maps FULL's foreign grids, and the mapping is part of FULL's key in the cache: an albedo
+// read at 0.9 of its value is another medium, whose references are rendered anew and then found.
+// (A mapped density would fail the check that LOBES was downsampled from FULL: Eq. 6 keeps mass.)
+// A mapping that names a missing grid is one error line naming it, and no output.
+TEST(OptimizeWeightsCli, GridMappingReadsFullAndAddressesItsReferences) {
+  const Media m;
+  const std::string cache = m.dir.path("cache"), report = m.dir.path("r.json");
+  const std::string darker = " --grid albedo=albedo:0.9 --cache " + quote(cache) + " --report " + quote(report);
+  ASSERT_EQ(runCommand(m.args("--iterations 1 --cache " + quote(cache) + " --report " + quote(report))).status, 0);
+  auto r = runCommand(m.args("--iterations 1" + darker));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readJson(report)["cache_hits"], 0) << "a mapped FULL found the unmapped one's references";
+  r = runCommand(m.args("--iterations 1" + darker));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(readJson(report)["cache_hits"], readJson(report)["references"]);
+
+  std::filesystem::remove(m.out);
+  r = runCommand(m.args("--iterations 1 --no-cache --grid albedo=Cd"));
+  EXPECT_NE(r.status, 0);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("Cd"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(m.full), std::string::npos) << r.err;
+  EXPECT_FALSE(exists(m.out));
+}
+
 TEST(OptimizeWeightsCli, SameFactorsWithOneThreadOrAllAndOtherSeedsDiffer) {
   const Media m;
   const std::string a = m.dir.path("a.vdb"), b = m.dir.path("b.vdb"), c = m.dir.path("c.vdb");
