@@ -85,8 +85,7 @@ bool VolumePathTracer::samplesLight(const Light& light) const {
   }
 }
 
-double VolumePathTracer::phaseSampledWeight(const Light& light, double phase_pdf, double light_pdf) const {
-  if (!samplesLight(light)) return 1;  // phase sampling alone reaches it
+double VolumePathTracer::phaseSampledWeight(double phase_pdf, double light_pdf) const {
   if (settings_.strategy == LightStrategy::kLightOnly) return 0;
   return powerHeuristic(phase_pdf, light_pdf);
 }
@@ -152,7 +151,9 @@ Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool came
   for (const auto& light : scene_.lights) {
     if (!light->isEnvironment()) continue;
     const Rgb Le = light->radiance(ray.d);
-    L += camera_ray ? Le : Rgb(Le * phaseSampledWeight(*light, prev_pdf, light->pdf(ray.o, ray.d)));
+    // A light that next-event estimation leaves alone is reached here alone: weight 1, no pdf needed.
+    if (camera_ray || !samplesLight(*light)) L += Le;
+    else L += Le * phaseSampledWeight(prev_pdf, light->pdf(ray.o, ray.d));
   }
   return L;
 }
@@ -187,8 +188,9 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
       const Rgb Le = light.emitted(hit->normal, -ray.d);
       if (prev_from_grid) break;  // its direct light came from the SH grid
-      const Rgb Le_weighted =
-          camera_ray ? Le : Rgb(Le * phaseSampledWeight(light, prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal)));
+      const Rgb Le_weighted = camera_ray || !samplesLight(light)
+                                  ? Le
+                                  : Rgb(Le * phaseSampledWeight(prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal)));
       result.L += beta * Le_weighted;
       if (gradients) gradients->addLight(Le_weighted);
       break;

@@ -53,10 +53,11 @@ class VolumePathTracer {
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
   double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
   Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const;
-  // Whether next-event estimation samples the light (delta lights always), and the weight of the
-  // light when a phase- or BRDF-sampled direction of density phase_pdf reaches it instead.
+  // Whether next-event estimation samples the light (delta lights always), and the weight of a
+  // light it samples when a phase- or BRDF-sampled direction of density phase_pdf reaches it
+  // instead (a light it does not sample has weight 1 there).
   bool samplesLight(const Light& light) const;
-  double phaseSampledWeight(const Light& light, double phase_pdf, double light_pdf) const;
+  double phaseSampledWeight(double phase_pdf, double light_pdf) const;
 
   const RenderScene& scene_;
   PathSettings settings_;
