@@ -19,11 +19,14 @@ inline double henyeyGreenstein(double mu, double g) {
 
 inline double henyeyGreensteinPhase(const Vec3& wi, const Vec3& wo, double g) { return henyeyGreenstein(-wi.dot(wo), g); }
 
+// Below this |g| sampleHenyeyGreenstein draws mu uniformly.
+inline constexpr double kHenyeyGreensteinUniformBelow = 1e-5;
+
 // Inverts the CDF of mu; phi uniform. pdf = phase, weight 1. For |g| < 1e-5 the inversion
 // cancels badly: mu is then uniform, with pdf 1/(4 pi) and weight phase / pdf.
 inline PhaseSample sampleHenyeyGreenstein(const Vec3& wi, double g, const Point2& u) {
   double mu;
-  const bool uniform = std::abs(g) < 1e-5;
+  const bool uniform = std::abs(g) < kHenyeyGreensteinUniformBelow;
   if (uniform) {
     mu = 1 - 2 * u.x();
   } else {

@@ -41,6 +41,8 @@ class Sggx {
   Sggx() : S_(Mat3::Identity()), S_inverse_(Mat3::Identity()), sqrt_det_S_(1) {}  // isotropic flakes
   // S must be symmetric positive definite (check with isPositiveDefinite).
   explicit Sggx(const Mat3& S);
+  // S from the medium's channels, as sggxMatrix(diag, offdiag).
+  Sggx(const Vec3& diag, const Vec3& offdiag);
 
   // Fiber-like flakes around a fiber with tangent t (normalised here): the flake normals lie mostly in the
   // plane orthogonal to t. S = (I - t t^T) + roughness^2 t t^T (Heitz et al. 2015, §4).
@@ -76,6 +78,9 @@ class Sggx {
   PhaseSample samplePhase(const Vec3& wi, const Point2& u) const;
 
  private:
+  // sampleVisibleNormal, also giving sigma(wi), which samplePhase's pdf needs.
+  Vec3 sampleVisibleNormal(const Vec3& wi, const Point2& u, double* sigma_wi) const;
+
   Mat3 S_;
   Mat3 S_inverse_;
   double sqrt_det_S_;

@@ -54,16 +54,53 @@ struct Walker<TreeT, -1> {
   }
 };
 
+// The level a walk can start from: below the top while the grid's active voxels lie within one
+// existing node of the level above, so that a ray clipped to their box crosses that one node there
+// and the walk of that level would only hand its whole span down. A medium of up to 8^3 majorant
+// voxels in one leaf walks its voxels directly; up to 128^3 in one internal node, its leaves.
+template <typename TreeT, int Level>
+int walkStartLevel(const TreeT& tree, const openvdb::CoordBBox& box) {
+  if constexpr (Level < 0) {
+    return -1;
+  } else {
+    using NodeT = typename TreeT::RootNodeType::NodeChainType::template Get<Level>;
+    const openvdb::Coord &a = box.min(), &b = box.max();
+    const int n = int(NodeT::TOTAL);
+    const bool one_node = (a.x() >> n) == (b.x() >> n) && (a.y() >> n) == (b.y() >> n) && (a.z() >> n) == (b.z() >> n);
+    if (box.empty() || !one_node || !tree.template probeConstNode<NodeT>(a)) return Level;
+    return walkStartLevel<TreeT, Level - 1>(tree, box);
+  }
+}
+
+template <typename TreeT, int Level, typename AccessorT, typename Fn>
+bool walkFrom(int start_level, const MajorantRay& ray, AccessorT& accessor, Fn& fn) {
+  if constexpr (Level >= 0) {
+    if (start_level < Level) return walkFrom<TreeT, Level - 1>(start_level, ray, accessor, fn);
+  }
+  return Walker<TreeT, Level>::walk(ray, ray.t0(), ray.t1(), accessor, fn);
+}
+
 }  // namespace majorant_detail
 
+// The level forEachMajorantSegment can start from for rays clipped to `active_box`, the box of
+// the majorant grid's active voxels.
+template <typename TreeT>
+int majorantWalkStartLevel(const TreeT& tree, const openvdb::CoordBBox& active_box) {
+  constexpr int kTopLevel = int(TreeT::RootNodeType::ChildNodeType::LEVEL);
+  return majorant_detail::walkStartLevel<TreeT, kTopLevel>(tree, active_box);
+}
+
 // Calls fn(t0, t1, sigma_maj) for each non-empty segment of the ray within [ray.t0(), ray.t1()],
-// in order of t; stops early when fn returns false (and then returns false).
+// in order of t; stops early when fn returns false (and then returns false). A ray clipped to the
+// grid's active box may start from majorantWalkStartLevel: the same segments (an end at the box may
+// differ in rounding), from fewer DDAs.
 template <typename AccessorT, typename Fn>
-bool forEachMajorantSegment(const MajorantRay& ray, AccessorT& accessor, Fn&& fn) {
-  using TreeT = typename AccessorT::TreeType;
+bool forEachMajorantSegment(const MajorantRay& ray, AccessorT& accessor, Fn&& fn,
+                            int start_level = int(AccessorT::TreeType::RootNodeType::ChildNodeType::LEVEL)) {
+  using TreeT = std::remove_const_t<typename AccessorT::TreeType>;
   constexpr int kTopLevel = int(TreeT::RootNodeType::ChildNodeType::LEVEL);
   if (!(ray.t1() > ray.t0())) return true;
-  return majorant_detail::Walker<std::remove_const_t<TreeT>, kTopLevel>::walk(ray, ray.t0(), ray.t1(), accessor, fn);
+  return majorant_detail::walkFrom<TreeT, kTopLevel>(start_level, ray, accessor, fn);
 }
 
 }  // namespace vdbappear

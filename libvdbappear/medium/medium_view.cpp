@@ -46,6 +46,7 @@ struct MediumView::Impl {
   Vec3 index_of_origin = Vec3::Zero();
   openvdb::FloatGrid::Ptr majorant;
   openvdb::math::BBox<openvdb::Vec3d> majorant_box;  // majorant space
+  int majorant_start_level = 0;                        // forEachMajorantSegment's, for rays clipped to the box
   Aabb bounds;
   PhaseSource phase_source = PhaseSource::kIsotropic;
   double hg_constant = 0;
@@ -101,6 +102,7 @@ void MediumView::Impl::findBounds() {
                                : box.empty() ? openvdb::CoordBBox()
                                              : openvdb::CoordBBox(blockOf(box.min(), unit), blockOf(box.max(), unit));
   majorant_box = openvdb::math::BBox<openvdb::Vec3d>(m.min().asVec3d(), m.max().asVec3d() + openvdb::Vec3d(1.0));
+  if (!instances) majorant_start_level = majorantWalkStartLevel(majorant->tree(), m);
 }
 
 void MediumView::Impl::findPhaseSource() {
@@ -400,10 +402,8 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
   Accessors& a = *accessors_;
   const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
   ScatteringFunction f;
-  PhaseLobe lobe;
   if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
     const openvdb::Coord ijk = a.at(discreteVoxel(a, view_.interpolation, p));  // lobe and cluster grids: read directly
-    lobe.kind = PhaseKind::kSggx;
     for (std::size_t slot = 0; slot < a.lobes.size(); ++slot) {
       LobeAccessors& l = a.lobes[slot];
       openvdb::Vec3s w(0.0f);
@@ -411,8 +411,9 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       const Rgb weight = toRgb(w);
       if (!(weight > 0).any()) continue;
       const openvdb::Vec3s off = l.offdiag ? l.offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
-      lobe.sggx = Sggx(sggxMatrix(toVec3(l.diag.getValue(ijk)), toVec3(off)));
-      f.addLobe(lobe, weight, int(slot));
+      PhaseLobe& added = f.appendLobe(weight, int(slot));  // in place: one ScatteringFunction per collision
+      added.kind = PhaseKind::kSggx;
+      added.sggx = Sggx(toVec3(l.diag.getValue(ijk)), toVec3(off));
     }
     int id = -1;
     if (a.cluster && a.cluster->probeValue(ijk, id)) f.setCluster(id);
@@ -443,6 +444,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
     S /= total;
     g /= total;
   }
+  PhaseLobe& lobe = f.appendLobe(albedo);
   switch (view_.phase_source) {
     case PhaseSource::kSggx:
       lobe.kind = PhaseKind::kSggx;
@@ -461,7 +463,6 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       break;
     default: break;  // isotropic
   }
-  f.addLobe(lobe, albedo);
   return f;
 }
 
@@ -490,7 +491,7 @@ template <typename Fn>
 bool forEachSegment(const MediumView::Impl& view, MediumLookup::Accessors& accessors, const MajorantRay& ray, Fn&& fn) {
   if (view.instances)
     return forEachInstancedMajorantSegment(ray, *view.instances, kMajorantBlock, accessors.majorant, std::forward<Fn>(fn));
-  return forEachMajorantSegment(ray, accessors.majorant, std::forward<Fn>(fn));
+  return forEachMajorantSegment(ray, accessors.majorant, std::forward<Fn>(fn), view.majorant_start_level);
 }
 
 }  // namespace

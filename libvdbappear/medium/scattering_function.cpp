@@ -35,24 +35,25 @@ double PhaseLobe::legendreMoment(int l) const {
 }
 
 void ScatteringFunction::addLobe(const PhaseLobe& lobe, const Rgb& weight, int slot) {
+  appendLobe(weight, slot) = lobe;
+}
+
+PhaseLobe& ScatteringFunction::appendLobe(const Rgb& weight, int slot) {
   if (lobe_count_ == kMaxLobes) throw std::length_error("ScatteringFunction: too many lobes");
-  lobes_[lobe_count_] = lobe;
   weights_[lobe_count_] = weight;
   slots_[lobe_count_] = slot;
-  ++lobe_count_;
-  updatePickProbabilities();
+  return lobes_[lobe_count_++];
 }
 
-void ScatteringFunction::scaleWeight(int j, const Rgb& factor) {
-  weights_[j] *= factor;
-  updatePickProbabilities();
-}
+void ScatteringFunction::scaleWeight(int j, const Rgb& factor) { weights_[j] *= factor; }
 
-void ScatteringFunction::updatePickProbabilities() {
+// P(j), proportional to the mean of W_j (uniform when every weight is 0).
+std::array<double, ScatteringFunction::kMaxLobes> ScatteringFunction::pickProbabilities() const {
+  std::array<double, kMaxLobes> p;
   double total = 0;
   for (int j = 0; j < lobe_count_; ++j) total += average(weights_[j]);
-  for (int j = 0; j < lobe_count_; ++j)
-    pick_probability_[j] = total > 0 ? average(weights_[j]) / total : 1.0 / lobe_count_;
+  for (int j = 0; j < lobe_count_; ++j) p[j] = total > 0 ? average(weights_[j]) / total : 1.0 / lobe_count_;
+  return p;
 }
 
 Rgb ScatteringFunction::albedo() const {
@@ -78,31 +79,41 @@ Rgb ScatteringFunction::evalLobes(const Vec3& wi, const Vec3& wo, Rgb* per_lobe)
 }
 
 double ScatteringFunction::pdf(const Vec3& wi, const Vec3& wo) const {
+  const std::array<double, kMaxLobes> pick = pickProbabilities();
   double p = 0;
   for (int j = 0; j < lobe_count_; ++j)
-    if (pick_probability_[j] > 0) p += pick_probability_[j] * lobes_[j].eval(wi, wo);
+    if (pick[j] > 0) p += pick[j] * lobes_[j].pdf(wi, wo);
   return p;
 }
 
 ScatterSample ScatteringFunction::sample(const Vec3& wi, double u_lobe, const Point2& u, Rgb* per_lobe) const {
   if (lobe_count_ == 0) return {};
-  int j = 0;
-  for (double cdf = pick_probability_[0]; j + 1 < lobe_count_ && u_lobe >= cdf; cdf += pick_probability_[++j]) {
-  }
   if (lobe_count_ == 1) {
     const PhaseSample s = lobes_[0].sample(wi, u);
     if (per_lobe) evalLobes(wi, s.wo, per_lobe);
     return {s.wo, s.pdf, s.pdf > 0 ? Rgb(weights_[0] * s.weight) : Rgb(Rgb::Zero())};
   }
+  const std::array<double, kMaxLobes> pick = pickProbabilities();
+  int j = 0;
+  for (double cdf = pick[0]; j + 1 < lobe_count_ && u_lobe >= cdf; cdf += pick[++j]) {
+  }
   const PhaseSample s = lobes_[j].sample(wi, u);
   if (!(s.pdf > 0)) return {};
-  // pdf and eval over all lobes from one evaluation of each lobe (the sums of pdf() and evalLobes()).
+  // pdf and eval over all lobes from one evaluation of each lobe (the sums of pdf() and evalLobes());
+  // the sampled lobe's comes with its sample: pdf s.pdf, phase value s.weight * s.pdf.
   double pdf_all = 0;
   Rgb f = Rgb::Zero();
   for (int k = 0; k < lobe_count_; ++k) {
     const bool weighted = (weights_[k] > 0).any();
-    const double phase = weighted || pick_probability_[k] > 0 ? lobes_[k].eval(wi, s.wo) : 0.0;
-    if (pick_probability_[k] > 0) pdf_all += pick_probability_[k] * phase;
+    double phase = 0, pdf = 0;
+    if (k == j) {
+      phase = s.weight * s.pdf;
+      pdf = s.pdf;
+    } else if (weighted || pick[k] > 0) {
+      phase = lobes_[k].eval(wi, s.wo);
+      pdf = lobes_[k].samplesItsPhase() ? phase : lobes_[k].pdf(wi, s.wo);
+    }
+    if (pick[k] > 0) pdf_all += pick[k] * pdf;
     const Rgb term = weighted ? Rgb(weights_[k] * phase) : Rgb(Rgb::Zero());
     if (per_lobe) per_lobe[k] = term;
     f += term;

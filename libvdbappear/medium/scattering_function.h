@@ -6,6 +6,7 @@
 //
 // Conventions: wi and wo both point away from the scattering point (docs/medium.md §4).
 
+#include "libvdbappear/math/henyey_greenstein.h"
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/math/sggx.h"
 #include "libvdbappear/math/tabulated_phase.h"
@@ -23,8 +24,12 @@ struct PhaseLobe {
   Sggx sggx;                               // kSggx
   const TabulatedPhase* table = nullptr;   // kTabulated
 
-  double eval(const Vec3& wi, const Vec3& wo) const;  // also the pdf of sample()
+  double eval(const Vec3& wi, const Vec3& wo) const;
   PhaseSample sample(const Vec3& wi, const Point2& u) const;
+  // The density of sample(): eval() for every lobe that samples its phase function exactly, that
+  // is all but HG lobes with |g| < kHenyeyGreensteinUniformBelow (sampled uniformly).
+  bool samplesItsPhase() const { return kind != PhaseKind::kHenyeyGreenstein || std::abs(g) >= kHenyeyGreensteinUniformBelow; }
+  double pdf(const Vec3& wi, const Vec3& wo) const { return samplesItsPhase() ? eval(wi, wo) : 1 / (4 * kPi); }
 
   // Legendre moments f_l = 2 pi int p(mu) P_l(mu) dmu (similarity paper, Eq. 8) in closed form:
   // isotropic (1, 0, 0, ...) and HG (g^l). SGGX lobes depend on more than mu and tables have no
@@ -48,6 +53,8 @@ class ScatteringFunction {
   // without lobe grids. Slots and the voxel's cluster say which weight factor w_kj scales the lobe
   // (Eq. 12, downsampling paper).
   void addLobe(const PhaseLobe& lobe, const Rgb& weight, int slot = -1);
+  // As addLobe, with the lobe set in place: returns it, isotropic until set.
+  PhaseLobe& appendLobe(const Rgb& weight, int slot = -1);
   int lobeCount() const { return lobe_count_; }
   const PhaseLobe& lobe(int j) const { return lobes_[j]; }
   const Rgb& weight(int j) const { return weights_[j]; }  // W_j
@@ -71,11 +78,10 @@ class ScatteringFunction {
   ScatterSample sample(const Vec3& wi, double u_lobe, const Point2& u, Rgb* per_lobe = nullptr) const;
 
  private:
-  void updatePickProbabilities();
+  std::array<double, kMaxLobes> pickProbabilities() const;
 
   std::array<PhaseLobe, kMaxLobes> lobes_;
   std::array<Rgb, kMaxLobes> weights_;
-  std::array<double, kMaxLobes> pick_probability_{};
   std::array<int, kMaxLobes> slots_{};
   int lobe_count_ = 0;
   int cluster_ = -1;

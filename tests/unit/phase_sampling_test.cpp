@@ -125,6 +125,39 @@ TEST(ScatteringFunction, IntegratesToTheAlbedoAndWeightsAreEvalOverPdf) {
   }
 }
 
+// A mixture of every kind, HG with |g| < 1e-5 among them, whose sample() weight is not 1 (uniform
+// pdf): the sampled lobe's phase value comes with its sample as weight * pdf (scattering_function.cpp).
+TEST(ScatteringFunction, MixedKindWeightsAreEvalOverPdf) {
+  test::TestRandom random(37);
+  const TabulatedPhase table(randomTable(90, 4));
+  ScatteringFunction f;
+  PhaseLobe lobe;
+  f.addLobe(lobe, Rgb(0.1, 0.2, 0.1));  // isotropic
+  lobe.kind = PhaseKind::kHenyeyGreenstein;
+  lobe.g = 4e-6;
+  f.addLobe(lobe, Rgb(0.2, 0.1, 0.1));
+  lobe.g = 0.7;
+  f.addLobe(lobe, Rgb(0.1, 0.1, 0.3));
+  lobe.kind = PhaseKind::kTabulated;
+  lobe.table = &table;
+  f.addLobe(lobe, Rgb(0.2, 0.2, 0.2));
+  lobe.kind = PhaseKind::kSggx;
+  lobe.sggx = Sggx(random.spd(0.01));
+  f.addLobe(lobe, Rgb(0.3, 0.1, 0.2));
+  const Vec3 wi = random.direction();
+  RandomStream rng(3, {1});
+  int checked = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const ScatterSample s = f.sample(wi, rng.uniform(), rng.uniform2());
+    if (!(s.pdf > 0)) continue;
+    ++checked;
+    EXPECT_NEAR(s.pdf, f.pdf(wi, s.wo), 1e-9 * s.pdf);
+    const Rgb expected = f.eval(wi, s.wo) / f.pdf(wi, s.wo);
+    EXPECT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.abs().maxCoeff()));
+  }
+  EXPECT_GT(checked, 1900);
+}
+
 TEST(ScatteringFunction, SingleLobeKindsSampleTheirOwnPdf) {
   test::TestRandom random(29);
   const TabulatedPhase table(randomTable(90, 4));

@@ -26,6 +26,22 @@ TEST(Sggx, IsotropicFlakesHaveUniformDistributionAndUnitArea) {
   }
 }
 
+// Eq. (4) of the downsampling paper evaluated with Eigen's general inverse and determinant, against
+// the constructors from a matrix and from the medium's six channels (which invert by cofactors).
+TEST(Sggx, DistributionMatchesEquationFourFromMatrixAndChannels) {
+  TestRandom random(8);
+  for (int k = 0; k < 200; ++k) {
+    const Mat3 S = random.spd(k % 2 ? 1e-3 : 0.5);
+    const Sggx from_matrix(S), from_channels(sggxDiagonal(S), sggxOffDiagonal(S));
+    const Vec3 m = random.direction();
+    const double q = m.dot(S.inverse() * m);
+    const double D = 1 / (kPi * std::sqrt(S.determinant()) * q * q);
+    EXPECT_NEAR(from_matrix.D(m), D, 1e-10 * D);
+    EXPECT_EQ(from_channels.D(m), from_matrix.D(m));
+    EXPECT_EQ(from_channels.sigma(m), from_matrix.sigma(m));
+  }
+}
+
 // sigma(w) = integral of D(m) max(0, <w,m>) dm (Heitz's normalisation), by direct quadrature in m.
 // The grid's pole is w, so the kink of max(0, .) lies on a cell boundary.
 TEST(Sggx, ProjectedAreaIsIntegralOfVisibleDistribution) {
