@@ -21,7 +21,7 @@ estimator of lights before issue 19's changes, so that the gain of the default s
 Results: bench-out/render_report.md and .json.
 Usage: scripts/bench_render.py [--build build] [--out bench-out] [--spp 32] [--blender-spp 16]
        [--eps 0.02] [--res 256] [--no-blender] [--media twill,twill-white,cloud,thin,point-ground]
-       [--before mis|none]
+       [--before mis|none] [--step-rate 1.0]
 """
 import argparse
 import json
@@ -135,7 +135,8 @@ def bench_cycles(bin_dir, out, name, vdb, vdb_render_row, args, label="cycles", 
                "--camera-pos", ",".join(map(str, camera["position"])),
                "--camera-target", ",".join(map(str, camera["target"])),
                "--camera-up", ",".join(map(str, camera["up"])), "--fov", str(camera["fov"]),
-               "--threads", str(os.cpu_count()), "--openvdb-voxel-centres", "--force"] + extra
+               "--threads", str(os.cpu_count()), "--openvdb-voxel-centres", "--force",
+               "--step-rate", str(args.step_rate)] + extra
         lines = run(cmd).stdout.splitlines()
         return json.loads(next(line for line in lines if line.startswith("{")))
 
@@ -172,6 +173,9 @@ def main():
     p.add_argument("--eps", type=float, default=0.02, help="target relative noise per pixel")
     p.add_argument("--res", type=int, default=256)
     p.add_argument("--no-blender", action="store_true")
+    p.add_argument("--step-rate", type=float, default=1.0,
+                   help="Cycles' volume step rate (blender_scene.py; default 1.0, its own default: one voxel per "
+                        "step; smaller is finer ray marching, less of its bias, slower)")
     p.add_argument("--media", default="twill,twill-white,cloud,thin,point-ground")
     p.add_argument("--before", default="mis", help="vdb_render --strategy of a row to compare the default with "
                    "(the estimator before issue 19's changes); 'none' for no such row")
