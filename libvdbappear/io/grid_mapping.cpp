@@ -45,7 +45,7 @@ double parseScale(const std::string& text, const std::string& rule) {
 GridRule parseGridRule(const std::string& text) {
   const std::size_t equals = text.find('=');
   if (equals == std::string::npos)
-    throw std::invalid_argument(fmt::format("'{}': expected ROLE=GRID[,GRID,GRID][:SCALE]", text));
+    throw std::invalid_argument(fmt::format("'{}': expected ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE]", text));
   GridRule rule;
   rule.role = text.substr(0, equals);
   if (std::find(kRoles.begin(), kRoles.end(), rule.role) == kRoles.end())
@@ -55,6 +55,14 @@ GridRule parseGridRule(const std::string& text) {
   if (const std::size_t colon = sources.rfind(':'); colon != std::string::npos) {
     rule.scale = parseScale(sources.substr(colon + 1), text);
     sources.resize(colon);
+  }
+  if (const std::size_t slash = sources.find('/'); slash != std::string::npos) {
+    rule.divisor = sources.substr(slash + 1);
+    sources.resize(slash);
+    if (rule.role != grid_names::kAlbedo)
+      throw std::invalid_argument(fmt::format("'{}': only albedo is divided by a grid (a colour times density)", text));
+    if (rule.divisor.empty() || rule.divisor.find_first_of("/,") != std::string::npos)
+      throw std::invalid_argument(fmt::format("'{}': expected one grid name after '/'", text));
   }
   rule.sources = split(sources, ',');
   for (const std::string& source : rule.sources)
@@ -68,6 +76,7 @@ GridRule parseGridRule(const std::string& text) {
 
 std::string gridRuleText(const GridRule& rule) {
   std::string text = fmt::format("{}={}", rule.role, fmt::join(rule.sources, ","));
+  if (!rule.divisor.empty()) text += "/" + rule.divisor;
   if (rule.scale != 1) text += fmt::format(":{}", rule.scale);
   return text;
 }

@@ -11,9 +11,12 @@ namespace vdbappear {
 
 // The contract grid `role` made from the file's grids `sources`, times `scale`: one grid of the
 // role's type (albedo: a float grid is grey), or three float grids as R, G, B (albedo only).
+// With a `divisor` (albedo only), each voxel is divided by that float grid's value there: a colour
+// premultiplied by the density, as Mantaflow writes it (docs/medium.md §12).
 struct GridRule {
   std::string role;
   std::vector<std::string> sources;
+  std::string divisor;  // empty: none
   double scale = 1;
 };
 
@@ -22,8 +25,9 @@ struct GridMapping {
   std::vector<GridRule> rules;
 };
 
-// Parses ROLE=GRID[,GRID,GRID][:SCALE] ("albedo=Cd", "albedo=color_r,color_g,color_b",
-// "density=density:0.5"). Throws std::invalid_argument with the reason.
+// Parses ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE] ("albedo=Cd", "albedo=color_r,color_g,color_b",
+// "albedo=color_r,color_g,color_b/density", "density=density:0.5"). Throws std::invalid_argument
+// with the reason.
 GridRule parseGridRule(const std::string& text);
 
 // The rule as parseGridRule reads it back.

@@ -93,7 +93,7 @@ openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>&
   return rgb;
 }
 
-openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
+openvdb::GridBase::Ptr undividedGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
   namespace names = grid_names;
   if (rule.sources.size() == 3) {
     std::array<openvdb::FloatGrid::Ptr, 3> channels;
@@ -110,6 +110,43 @@ openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule
                       rule.scale);
   }
   return scaledCopy(*sourceOfType<openvdb::FloatGrid>(grids, rule, name, source), rule.role, rule.scale);
+}
+
+float clampedAlbedo(float a) { return std::clamp(a, 0.0f, 1.0f); }  // NaN stays NaN, for validation to name
+openvdb::Vec3s clampedAlbedo(const openvdb::Vec3s& a) {
+  return {clampedAlbedo(a[0]), clampedAlbedo(a[1]), clampedAlbedo(a[2])};
+}
+
+// `/DIVISOR`: each active value over the divisor's value at its voxel, clamped to [0, 1] (the
+// ratio of two fields advected separately overshoots where the density is tiny); 1, the contract's
+// albedo, where the divisor is not > 0 (no medium there). Tiles are voxelised first.
+template <typename GridT>
+typename GridT::Ptr dividedBy(typename GridT::Ptr grid, const openvdb::FloatGrid& divisor, const GridRule& rule,
+                              const std::string& source) {
+  if (divisor.transform() != grid->transform())
+    throw MediumError(fmt::format("{}: grids '{}' and '{}' have different transforms", ruleContext(rule, source),
+                                  rule.sources.front(), rule.divisor));
+  using ValueT = typename GridT::ValueType;
+  grid->tree().voxelizeActiveTiles();
+  struct Divide {
+    openvdb::FloatGrid::ConstAccessor divisor;
+    void operator()(const typename GridT::ValueOnIter& it) const {
+      const float d = divisor.getValue(it.getCoord());
+      it.setValue(d > 0 ? ValueT(clampedAlbedo(it.getValue() * (1 / d))) : ValueT(1.0f));
+    }
+  };
+  openvdb::tools::foreach(grid->beginValueOn(), Divide{divisor.getConstAccessor()}, /*threaded=*/true,
+                          /*shareOp=*/false);
+  return grid;
+}
+
+openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
+  openvdb::GridBase::Ptr made = undividedGrid(grids, rule, source);
+  if (rule.divisor.empty()) return made;
+  const auto divisor = sourceOfType<openvdb::FloatGrid>(grids, rule, rule.divisor, source);
+  if (auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(made))
+    return dividedBy<openvdb::FloatGrid>(grey, *divisor, rule, source);
+  return dividedBy<openvdb::Vec3SGrid>(openvdb::gridPtrCast<openvdb::Vec3SGrid>(made), *divisor, rule, source);
 }
 
 }  // namespace

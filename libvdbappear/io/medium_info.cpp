@@ -29,8 +29,8 @@ std::optional<std::string> foreignGridRole(const std::string& name) {
     return fmt::format("colour (Blender's volume colour, Houdini's Cd), not read unless mapped: where it is the "
                        "single-scattering albedo, --grid albedo={} (docs/medium.md section 12)", name);
   if (name == "color_r" || name == "color_g" || name == "color_b")
-    return "a channel of a Mantaflow smoke colour, not read: Mantaflow stores colour times density, so it is "
-           "not an albedo as it is (docs/medium.md section 12)";
+    return "a channel of a Mantaflow smoke colour, not read unless mapped: Mantaflow stores colour times density; "
+           "--grid albedo=color_r,color_g,color_b/density divides it back (docs/medium.md section 12)";
   if (name == "flame" || name == "temperature" || name == "heat")
     return "fire (emission): the medium contract has no emission yet, so no tool renders it (issue 26)";
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)

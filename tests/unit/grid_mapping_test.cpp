@@ -91,7 +91,11 @@ TEST(GridMapping, RulesParseAndPrintBack) {
   const GridRule scaled = parseGridRule("density=density:0.5");
   EXPECT_EQ(scaled.sources, (std::vector<std::string>{"density"}));
   EXPECT_EQ(scaled.scale, 0.5);
-  for (const char* text : {"albedo=Cd", "albedo=color_r,color_g,color_b", "density=density:0.5", "hg_g=g:2"})
+  const GridRule divided = parseGridRule("albedo=color_r,color_g,color_b/density");
+  EXPECT_EQ(divided.sources.size(), 3u);
+  EXPECT_EQ(divided.divisor, "density");
+  for (const char* text : {"albedo=Cd", "albedo=color_r,color_g,color_b", "density=density:0.5", "hg_g=g:2",
+                           "albedo=color_r,color_g,color_b/density", "albedo=Cd/density:2"})
     EXPECT_EQ(gridRuleText(parseGridRule(text)), text);
 }
 
@@ -101,6 +105,9 @@ TEST(GridMapping, MalformedRulesSayWhy) {
   EXPECT_NE(ruleError("density=a,b,c").find("only albedo is made from three grids"), std::string::npos);
   EXPECT_NE(ruleError("albedo=a,b").find("expected one grid, or three"), std::string::npos);
   EXPECT_NE(ruleError("albedo=").find("a grid name is empty"), std::string::npos);
+  EXPECT_NE(ruleError("density=density/rho").find("only albedo is divided by a grid"), std::string::npos);
+  for (const char* divisor : {"albedo=Cd/", "albedo=Cd/a,b", "albedo=Cd/a/b"})
+    EXPECT_NE(ruleError(divisor).find("expected one grid name after '/'"), std::string::npos) << divisor;
   for (const char* scale : {"density=density:0", "density=density:-1", "density=density:x", "density=density:nan"})
     EXPECT_NE(ruleError(scale).find("is not a number > 0"), std::string::npos) << scale;
   GridMapping mapping = mappingOf({"albedo=Cd"});
@@ -139,6 +146,51 @@ TEST(GridMapping, ScalesAndGreyAlbedo) {
   EXPECT_EQ(medium->albedo->tree().getValue(ijk), Vec3s(ForeignFile::colourAt(ijk)[1]));
 }
 
+// albedo=.../density: a colour premultiplied by the density (Mantaflow's color_r, _g, _b) divided
+// by it voxel for voxel; the density itself stays the medium's density.
+TEST(GridMapping, ColourTimesDensityDividedByTheDensity) {
+  const ForeignFile file;  // density 2: the channels read as colour x density give colour / 2
+  const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=color_r,color_g,color_b/density"}));
+  ASSERT_TRUE(medium->albedo);
+  for (auto v = medium->density->cbeginValueOn(); v; ++v) {
+    EXPECT_EQ(v.getValue(), 2.0f);
+    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()) * 0.5f) << v.getCoord();
+  }
+  // A Cd twice the colour, premultiplied: divided, the colour itself, where undivided it is refused below.
+  const ForeignFile premultiplied(2.0f);
+  expectAlbedoIsTheColour(*readMedium(premultiplied.path, mappingOf({"albedo=Cd/density"})));
+  // Overshoot clamps to 1: Cd four times the colour over density 2 is twice the colour.
+  const ForeignFile over(4.0f);
+  const MediumPtr clamped = readMedium(over.path, mappingOf({"albedo=Cd/density"}));
+  const Coord ijk(0, 0, 0);  // colour (0.1, 0, 0.9): 0.2, 0, 1.8 -> 1
+  EXPECT_EQ(clamped->albedo->tree().getValue(ijk), Vec3s(0.2f, 0.0f, 1.0f));
+}
+
+// Where the divisor is 0 or inactive, there is no medium: the albedo is the contract's 1.
+TEST(GridMapping, NoDensityDividesToWhite) {
+  TempDir dir;
+  const std::string path = dir.path("smoke.vdb");
+  auto transform = openvdb::math::Transform::createLinearTransform(0.5);
+  auto density = openvdb::FloatGrid::create(0.0f);
+  auto colour = openvdb::FloatGrid::create(0.0f);
+  density->tree().setValue(Coord(0, 0, 0), 0.5f);
+  density->tree().setValue(Coord(1, 0, 0), 0.0f);  // active, empty
+  colour->tree().setValue(Coord(0, 0, 0), 0.25f);
+  colour->tree().setValue(Coord(1, 0, 0), 0.3f);
+  colour->tree().setValue(Coord(2, 0, 0), 0.3f);   // no density voxel at all
+  density->setName("density");
+  colour->setName("colour");
+  density->setTransform(transform);
+  colour->setTransform(transform);
+  test::writeRawVdb(path, {density, colour});
+  const MediumPtr medium = readMedium(path, mappingOf({"albedo=colour/density"}));
+  EXPECT_EQ(medium->albedo->tree().getValue(Coord(0, 0, 0)), Vec3s(0.5f));
+  EXPECT_EQ(medium->albedo->tree().getValue(Coord(1, 0, 0)), Vec3s(1.0f));
+  EXPECT_EQ(medium->albedo->tree().getValue(Coord(2, 0, 0)), Vec3s(1.0f));
+  // Negative control: undivided, the grey colour is read as it is.
+  EXPECT_EQ(readMedium(path, mappingOf({"albedo=colour"}))->albedo->tree().getValue(Coord(0, 0, 0)), Vec3s(0.25f));
+}
+
 TEST(GridMapping, BadMappingsFailNamingTheFileTheRuleAndTheGrid) {
   const ForeignFile file;
   const std::string missing = file.error(mappingOf({"albedo=colour"}));
@@ -157,6 +209,11 @@ TEST(GridMapping, BadMappingsFailNamingTheFileTheRuleAndTheGrid) {
   EXPECT_NE(range.find("grid 'albedo': albedo"), std::string::npos) << range;
   EXPECT_NE(range.find("outside [0,1]"), std::string::npos) << range;
   EXPECT_NE(range.find("(made by --grid albedo=Cd)"), std::string::npos) << range;
+  // A divisor that is missing or not a float grid.
+  const std::string no_divisor = file.error(mappingOf({"albedo=Cd/rho"}));
+  EXPECT_NE(no_divisor.find("--grid albedo=Cd/rho: no grid named 'rho'"), std::string::npos) << no_divisor;
+  const std::string vector_divisor = file.error(mappingOf({"albedo=color_g/Cd"}));
+  EXPECT_NE(vector_divisor.find("grid 'Cd' holds vec3s values, expected float"), std::string::npos) << vector_divisor;
 }
 
 }  // namespace
