@@ -62,9 +62,17 @@ bench-render: build
 	@scripts/bench_render.py --build $(BUILD_DIR)
 
 # The weight optimisation's training renders: restricted-mean noise and seconds per set (bench/training_set_bench.cpp).
+# BASELINE_LIB=DIR: the same benchmark with another build's libvdbappear.so (DIR holds it; its public types must
+# match this build's), the two runs alternating, for a before/after in one run (docs/rendering.md 7).
 bench-training: build
-	@mkdir -p bench-out && $(BUILD_DIR)/bin/training_set_bench --benchmark_out=bench-out/training_set_bench.json \
-		--benchmark_out_format=json
+	@mkdir -p bench-out
+	@for round in 1 2; do \
+		$(BUILD_DIR)/bin/training_set_bench --benchmark_out=bench-out/training_set_bench_$$round.json \
+			--benchmark_out_format=json || exit 1; \
+		if [ -n "$(BASELINE_LIB)" ]; then LD_LIBRARY_PATH="$(BASELINE_LIB)" $(BUILD_DIR)/bin/training_set_bench \
+			--benchmark_out=bench-out/training_set_bench_baseline_$$round.json --benchmark_out_format=json || exit 1; \
+		else break; fi; \
+	done
 
 # Multi-lobe fits: error against lobe count (twill, velvet) and renders against full resolution.
 lobes: build
