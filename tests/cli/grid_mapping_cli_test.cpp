@@ -1,5 +1,6 @@
 // --grid ROLE=GRID (io/grid_mapping.h, docs/medium.md §12) from the command line: every tool that
-// reads media takes it; a Houdini-style `Cd` colours a render and reaches a downsampled file; a
+// reads media takes it; a Houdini-style `Cd` colours a render and reaches a downsampled file, and so
+// does Mantaflow's colour times density divided by the density; a
 // mapping that names a missing grid or a malformed rule fails with one line and writes nothing.
 #include "libvdbappear/image/image_file.h"
 #include "libvdbappear/io/medium.h"
@@ -35,6 +36,26 @@ std::string cubeWithCd(const TempDir& dir) {
   return path;
 }
 
+// The same cube as Mantaflow writes colour: color_r, _g, _b = density x (0.9, 0.2, 0.2).
+std::string cubeWithMantaflowColour(const TempDir& dir) {
+  const MediumPtr cube = readMedium(std::string(GOLDEN_DIR) + "/cube8.vdb");
+  openvdb::GridPtrVec grids = {cube->density->deepCopy()};
+  const float colour[3] = {0.9f, 0.2f, 0.2f};
+  const char* names[3] = {"color_r", "color_g", "color_b"};
+  for (int c = 0; c < 3; ++c) {
+    auto channel = cube->density->deepCopy();
+    channel->setName(names[c]);
+    const float k = colour[c];
+    openvdb::tools::foreach(channel->beginValueOn(), [k](const openvdb::FloatGrid::ValueOnIter& it) {
+      it.setValue(it.getValue() * k);
+    });
+    grids.push_back(channel);
+  }
+  const std::string path = dir.path("cube_mantaflow.vdb");
+  test::writeRawVdb(path, grids);
+  return path;
+}
+
 double meanChannel(const RgbImage& image, int c) {
   double sum = 0;
   for (std::size_t i = c; i < image.pixels.size(); i += 3) sum += image.pixels[i];
@@ -59,6 +80,29 @@ TEST(GridMappingCli, RenderSeesTheMappedColour) {
   const RgbImage r = readRgbImage(red), w = readRgbImage(white);
   EXPECT_GT(meanChannel(r, 0), 1.3 * meanChannel(r, 1));
   EXPECT_NEAR(meanChannel(w, 0), meanChannel(w, 1), 1e-6);
+}
+
+// Mantaflow's colour times density, divided back by the density, renders as the colour itself: the
+// red cube of a Cd of (0.9, 0.2, 0.2). Undivided, the channels (density 5 to 15 times the colour)
+// are no albedo, and the render is refused (control).
+TEST(GridMappingCli, MantaflowColourOverDensityRendersTheColour) {
+  const TempDir dir;
+  const std::string mantaflow = cubeWithMantaflowColour(dir), houdini = cubeWithCd(dir);
+  const std::string divided = dir.path("divided.exr"), cd = dir.path("cd.exr"), refused = dir.path("refused.exr");
+  const std::string flags = " --res 16 --spp 8 --env 1 --view -x";
+  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(mantaflow) +
+                       " --grid albedo=color_r,color_g,color_b/density -o " + quote(divided) + flags)
+                .status,
+            0);
+  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(houdini) + " --grid albedo=Cd -o " + quote(cd) + flags).status, 0);
+  const RgbImage a = readRgbImage(divided), b = readRgbImage(cd);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(meanChannel(a, c), meanChannel(b, c), 0.01 * meanChannel(b, c)) << c;
+  EXPECT_GT(meanChannel(a, 0), 1.3 * meanChannel(a, 1));
+  const auto undivided = runCommand(quote(VDB_RENDER) + " " + quote(mantaflow) +
+                                    " --grid albedo=color_r,color_g,color_b -o " + quote(refused) + flags);
+  EXPECT_NE(undivided.status, 0);
+  EXPECT_NE(undivided.err.find("outside [0,1]"), std::string::npos) << undivided.err;
+  EXPECT_FALSE(std::filesystem::exists(refused));
 }
 
 // vdb_sggx_downsample writes the mapped albedo (the density-weighted mean of a constant: itself)
