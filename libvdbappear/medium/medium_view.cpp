@@ -371,13 +371,15 @@ bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stenci
   return true;
 }
 
+// sigma_t of voxel ijk toward w: rho sqrt(w^T S w) (Eq. (3), downsampling paper).
+double voxelExtinction(MediumLookup::Accessors& a, const openvdb::Coord& ijk, const Vec3& w) {
+  const double rho = a.rho(ijk);
+  return rho > 0 ? rho * std::sqrt(std::max(0.0, a.wSw(ijk, w))) : 0.0;
+}
+
 // sigma_t at an index-space point.
 double extinctionAt(MediumLookup::Accessors& a, Interpolation interpolation, const Vec3& p, const Vec3& w) {
-  if (interpolation == Interpolation::kNearest) {
-    const openvdb::Coord ijk = nearestVoxel(p);
-    const double rho = a.rho(ijk);
-    return rho > 0 ? rho * std::sqrt(std::max(0.0, a.wSw(ijk, w))) : 0.0;
-  }
+  if (interpolation == Interpolation::kNearest) return voxelExtinction(a, nearestVoxel(p), w);
   // Trilinear: rho = sum w_c rho_c, S = sum w_c rho_c S_c / rho (density-weighted), so
   // sigma_t = rho sqrt(w^T S w) = sqrt(rho * sum w_c rho_c w^T S_c w).
   const TrilinearStencil stencil(p);
@@ -509,6 +511,20 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
   const Vec3 o_index = view.world_to_index * o + view.index_of_origin;
   const Vec3 d_index = view.world_to_index * d;
   double tau = -std::log(1 - rng.uniform());  // optical depth to the next event
+  // Nearest-voxel media are constant within a voxel and the direction is the walk's, so events that
+  // fall in the voxel of the previous one share its sigma_t: one lookup per voxel, not per event.
+  const bool nearest = view.interpolation == Interpolation::kNearest;
+  openvdb::Coord last_voxel;
+  double last_sigma_t = -1;
+  const auto extinction = [&](const Vec3& p) {
+    if (!nearest) return extinctionAt(accessors, view.interpolation, p, d);
+    const openvdb::Coord voxel = nearestVoxel(p);
+    if (last_sigma_t < 0 || voxel != last_voxel) {
+      last_voxel = voxel;
+      last_sigma_t = voxelExtinction(accessors, voxel, d);
+    }
+    return last_sigma_t;
+  };
   forEachSegment(view, accessors, ray, [&](double t0, double t1, double sigma_maj) {
     for (double t = t0;;) {
       const double dt = tau / sigma_maj;
@@ -518,7 +534,7 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
       }
       t += dt;
       ++stats.tentative_collisions;
-      const double sigma_t = extinctionAt(accessors, view.interpolation, o_index + t * d_index, d);
+      const double sigma_t = extinction(o_index + t * d_index);
       if (sigma_t > sigma_maj) ++stats.majorant_violations;
       if (!on_event(t, sigma_t, sigma_maj)) return false;
       tau = -std::log(1 - rng.uniform());
