@@ -400,10 +400,11 @@ double MediumLookup::extinction(const Vec3& p, const Vec3& w) {
   return extinctionAt(*accessors_, view_.interpolation, view_.world_to_index * p + view_.index_of_origin, w);
 }
 
-ScatteringFunction MediumLookup::scattering(const Vec3& world) {
+void MediumLookup::scattering(const Vec3& world, ScatteringFunction* out) {
   Accessors& a = *accessors_;
   const Vec3 p = view_.world_to_index * world + view_.index_of_origin;
-  ScatteringFunction f;
+  ScatteringFunction& f = *out;
+  f.clear();
   if (view_.phase_source == PhaseSource::kLobes) {  // lobes are discrete: see discreteVoxel
     const openvdb::Coord ijk = a.at(discreteVoxel(a, view_.interpolation, p));  // lobe and cluster grids: read directly
     for (std::size_t slot = 0; slot < a.lobes.size(); ++slot) {
@@ -419,7 +420,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
     }
     int id = -1;
     if (a.cluster && a.cluster->probeValue(ijk, id)) f.setCluster(id);
-    return f;
+    return;
   }
   // Albedo, S and g: at the nearest voxel, or density-weighted over the trilinear stencil.
   Rgb albedo = Rgb::Zero();
@@ -441,7 +442,7 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       if (view_.phase_source == PhaseSource::kSggx) S += w * a.S(stencil.ijk(c));
       if (view_.phase_source == PhaseSource::kHgGrid) g += w * a.hgAt(stencil.ijk(c));
     }
-    if (!(total > 0)) return f;  // no density here: nothing scatters
+    if (!(total > 0)) return;  // no density here: nothing scatters
     albedo /= total;
     S /= total;
     g /= total;
@@ -465,7 +466,6 @@ ScatteringFunction MediumLookup::scattering(const Vec3& world) {
       break;
     default: break;  // isotropic
   }
-  return f;
 }
 
 int MediumLookup::cluster(const Vec3& world) {

@@ -83,8 +83,8 @@ class MediumLookup {
 
   // sigma_t(w) at p = rho sqrt(w^T S w), w a unit vector (docs/medium.md §4).
   double extinction(const Vec3& p, const Vec3& w);
-  // Albedo and phase function at p.
-  ScatteringFunction scattering(const Vec3& p);
+  // Albedo and phase function at p, into f (cleared first: a path reuses one function).
+  void scattering(const Vec3& p, ScatteringFunction* f);
   // Id of the voxel cluster at p (nearest voxel), -1 where the `cluster` grid is inactive or absent.
   int cluster(const Vec3& p);
 

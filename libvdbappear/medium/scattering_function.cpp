@@ -42,7 +42,11 @@ PhaseLobe& ScatteringFunction::appendLobe(const Rgb& weight, int slot) {
   if (lobe_count_ == kMaxLobes) throw std::length_error("ScatteringFunction: too many lobes");
   weights_[lobe_count_] = weight;
   slots_[lobe_count_] = slot;
-  return lobes_[lobe_count_++];
+  PhaseLobe& lobe = lobes_[lobe_count_++];
+  lobe.kind = PhaseKind::kIsotropic;
+  lobe.g = 0;
+  lobe.table = nullptr;
+  return lobe;
 }
 
 void ScatteringFunction::scaleWeight(int j, const Rgb& factor) { weights_[j] *= factor; }

@@ -53,8 +53,15 @@ class ScatteringFunction {
   // without lobe grids. Slots and the voxel's cluster say which weight factor w_kj scales the lobe
   // (Eq. 12, downsampling paper).
   void addLobe(const PhaseLobe& lobe, const Rgb& weight, int slot = -1);
-  // As addLobe, with the lobe set in place: returns it, isotropic until set.
+  // As addLobe, with the lobe set in place: returns it, of kind isotropic until set (a caller that
+  // sets kSggx sets sggx too: a reused function's lobes keep their old S).
   PhaseLobe& appendLobe(const Rgb& weight, int slot = -1);
+  // No lobes and no cluster, for reuse: a path refills one function at each collision rather than
+  // building and copying a new one (kMaxLobes lobes, 1.6 kB).
+  void clear() {
+    lobe_count_ = 0;
+    cluster_ = -1;
+  }
   int lobeCount() const { return lobe_count_; }
   const PhaseLobe& lobe(int j) const { return lobes_[j]; }
   const Rgb& weight(int j) const { return weights_[j]; }  // W_j

@@ -166,6 +166,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   bool prev_from_grid = false;  // the previous vertex's area light came from the SH grid
   const int max_depth = settings_.max_depth < 0 ? std::numeric_limits<int>::max() : settings_.max_depth;
   const double eps = scene_.ray_epsilon;
+  Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   for (int depth = 0;; ++depth) {
     const bool camera_ray = depth == 0;
     std::optional<SurfaceHit> hit;
@@ -174,15 +175,15 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     std::optional<double> t_medium;
     if (lookup) t_medium = lookup->sampleCollision(ray.o, ray.d, t_surface, rng);
 
-    Vertex vertex;
     vertex.wi = -ray.d;
+    vertex.on_surface = false;
     if (t_medium) {
       vertex.p = ray(*t_medium);
       if (camera_ray) {
         result.first_cluster = lookup->cluster(vertex.p);
         result.camera_ray_collided = true;
       }
-      vertex.medium = lookup->scattering(vertex.p);
+      lookup->scattering(vertex.p, &vertex.medium);
       if (scene_.lobe_scales) scene_.lobe_scales->apply(vertex.medium);
     } else if (hit && hit->light >= 0) {
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
