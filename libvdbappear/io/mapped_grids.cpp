@@ -63,13 +63,19 @@ typename GridT::Ptr scaledCopy(const GridT& grid, const std::string& role, doubl
   return copy;
 }
 
+// Grids combined voxel by voxel (a rule's channels, a value and its divisor) share one transform.
+void requireSameTransform(const openvdb::GridBase& a, const std::string& a_name, const openvdb::GridBase& b,
+                          const std::string& b_name, const GridRule& rule, const std::string& source) {
+  if (a.transform() != b.transform())
+    throw MediumError(fmt::format("{}: grids '{}' and '{}' have different transforms", ruleContext(rule, source),
+                                  a_name, b_name));
+}
+
 // Three float grids as the R, G, B of one Vec3 grid on the union of their active voxels.
 openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>& channels, const GridRule& rule,
                                    const std::string& source) {
   for (int c = 1; c < 3; ++c)
-    if (channels[c]->transform() != channels[0]->transform())
-      throw MediumError(fmt::format("{}: grids '{}' and '{}' have different transforms", ruleContext(rule, source),
-                                    channels[0]->getName(), channels[c]->getName()));
+    requireSameTransform(*channels[0], channels[0]->getName(), *channels[c], channels[c]->getName(), rule, source);
   const auto factor = static_cast<float>(rule.scale);
   auto rgb = openvdb::Vec3SGrid::create(openvdb::Vec3s(channels[0]->background(), channels[1]->background(),
                                                        channels[2]->background()) * factor);
@@ -123,9 +129,7 @@ openvdb::Vec3s clampedAlbedo(const openvdb::Vec3s& a) {
 template <typename GridT>
 typename GridT::Ptr dividedBy(typename GridT::Ptr grid, const openvdb::FloatGrid& divisor, const GridRule& rule,
                               const std::string& source) {
-  if (divisor.transform() != grid->transform())
-    throw MediumError(fmt::format("{}: grids '{}' and '{}' have different transforms", ruleContext(rule, source),
-                                  rule.sources.front(), rule.divisor));
+  requireSameTransform(*grid, rule.sources.front(), divisor, rule.divisor, rule, source);
   using ValueT = typename GridT::ValueType;
   grid->tree().voxelizeActiveTiles();
   struct Divide {

@@ -216,5 +216,44 @@ TEST(GridMapping, BadMappingsFailNamingTheFileTheRuleAndTheGrid) {
   EXPECT_NE(vector_divisor.find("grid 'Cd' holds vec3s values, expected float"), std::string::npos) << vector_divisor;
 }
 
+// Grids combined voxel by voxel must share one transform: channels on another voxel size, or a
+// divisor on one, are refused naming both grids (a negative control reads the matching pair).
+TEST(GridMapping, GridsOnDifferentTransformsAreRefused) {
+  TempDir dir;
+  const auto write = [&](const std::string& file, const std::vector<std::pair<std::string, double>>& voxel_sizes) {
+    openvdb::GridPtrVec grids;
+    for (const auto& [name, voxel] : voxel_sizes) {
+      auto grid = openvdb::FloatGrid::create(0.0f);
+      grid->tree().setValue(Coord(0, 0, 0), 0.5f);
+      grid->setName(name);
+      grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+      grids.push_back(grid);
+    }
+    test::writeRawVdb(dir.path(file), grids);
+    return dir.path(file);
+  };
+  const auto error = [&](const std::string& path, std::initializer_list<const char*> rules) {
+    try {
+      readMedium(path, mappingOf(rules));
+    } catch (const MediumError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const std::string mixed =
+      write("mixed.vdb", {{"density", 0.25}, {"r", 0.25}, {"g", 0.25}, {"b", 0.5}, {"rho_coarse", 0.5}});
+  const std::string channels = error(mixed, {"albedo=r,g,b"});
+  EXPECT_NE(channels.find(mixed + ": --grid albedo=r,g,b: grids 'r' and 'b' have different transforms"),
+            std::string::npos)
+      << channels;
+  const std::string divisor = error(mixed, {"albedo=r/rho_coarse"});
+  EXPECT_NE(divisor.find("--grid albedo=r/rho_coarse: grids 'r' and 'rho_coarse' have different transforms"),
+            std::string::npos)
+      << divisor;
+  // Negative control: the same rules on grids that share the density's transform.
+  const std::string same = write("same.vdb", {{"density", 0.25}, {"r", 0.25}, {"g", 0.25}, {"b", 0.25}});
+  EXPECT_EQ(error(same, {"albedo=r,g,b/density"}), "read");
+}
+
 }  // namespace
 }  // namespace vdbappear
