@@ -181,5 +181,40 @@ TEST(ScatteringFunction, SingleLobeKindsSampleTheirOwnPdf) {
   }
 }
 
+// A function cleared for reuse (one per path in the path tracer) has no lobes and no cluster, and a
+// lobe appended to it is isotropic until set, whatever the slot held before; it then evaluates as
+// a fresh function with the same lobes does.
+TEST(ScatteringFunction, ClearedFunctionIsRefilledLikeAFreshOne) {
+  test::TestRandom random(41);
+  const TabulatedPhase table(randomTable(90, 4));
+  ScatteringFunction reused;
+  PhaseLobe hg;
+  hg.kind = PhaseKind::kHenyeyGreenstein;
+  hg.g = 0.8;
+  reused.addLobe(hg, Rgb(0.5, 0.5, 0.5), 0);
+  PhaseLobe tabulated;
+  tabulated.kind = PhaseKind::kTabulated;
+  tabulated.table = &table;
+  reused.addLobe(tabulated, Rgb(0.2, 0.3, 0.4), 1);
+  reused.setCluster(3);
+  reused.clear();
+  EXPECT_EQ(reused.lobeCount(), 0);
+  EXPECT_EQ(reused.cluster(), -1);
+  const PhaseLobe& first = reused.appendLobe(Rgb(0.4, 0.5, 0.6), 2);
+  EXPECT_EQ(first.kind, PhaseKind::kIsotropic);
+  EXPECT_EQ(first.g, 0);
+  EXPECT_EQ(reused.appendLobe(Rgb(0.1, 0.1, 0.1)).table, nullptr);
+  EXPECT_EQ(reused.lobe(1).kind, PhaseKind::kIsotropic);  // the slot that was tabulated
+  ScatteringFunction fresh;
+  fresh.appendLobe(Rgb(0.4, 0.5, 0.6), 2);
+  fresh.appendLobe(Rgb(0.1, 0.1, 0.1));
+  for (int i = 0; i < 20; ++i) {
+    const Vec3 wi = random.direction(), wo = random.direction();
+    EXPECT_EQ(reused.eval(wi, wo).matrix(), fresh.eval(wi, wo).matrix());
+    EXPECT_EQ(reused.pdf(wi, wo), fresh.pdf(wi, wo));
+  }
+  EXPECT_EQ(reused.slot(0), 2);
+}
+
 }  // namespace
 }  // namespace vdbappear
