@@ -66,6 +66,28 @@ void addGridMapping(CLI::App& app, GridMapping& mapping) {
          "ROLE=GRID:SCALE (density=density:0.5); repeatable; roles density, albedo, hg_g, sggx_diag, "
          "sggx_offdiag (docs/medium.md section 12)")
       ->type_name("ROLE=GRID");
+  app.add_option_function<std::string>(
+         "--from",
+         [&mapping](const std::string& name) {
+           try {
+             mapping.preset = parseGridPreset(name);
+           } catch (const std::invalid_argument& e) {
+             throw CLI::ValidationError("--from", e.what());
+           }
+         },
+         "whose grid names to read for the roles --grid leaves: blender (a smoke cache's "
+         "color_r,color_g,color_b/density, or a Volume object's color, as the albedo), houdini (Cd as the albedo), "
+         "none (the grids as they are), or auto: either convention, detected in a file without an albedo grid, "
+         "with a note of what was mapped (docs/medium.md section 12)")
+      ->type_name("auto|blender|houdini|none")
+      ->default_str("auto");
+}
+
+std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path,
+                                              const GridMapping& mapping) {
+  MediumPtr medium = readMedium(path, mapping);
+  for (const std::string& note : readNotes(*medium)) fmt::print(stderr, "{}: note: {}\n", tool, note);
+  return medium;
 }
 
 void writeJsonReport(const std::string& path, const nlohmann::json& report) {

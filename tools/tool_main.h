@@ -12,6 +12,7 @@
 namespace vdbappear {
 struct MediumSummary;
 struct GridMapping;
+struct Medium;
 }
 
 namespace vdbappear::tool {
@@ -33,9 +34,14 @@ class ThreadLimit {
   std::shared_ptr<void> control_;
 };
 
-// Adds --grid ROLE=GRID[,GRID,GRID][:SCALE], repeatable: the file's foreign grids read as the
-// medium's (io/grid_mapping.h), into `mapping`; a malformed rule or a role given twice is a flag error.
+// Adds --grid ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE], repeatable: the file's foreign grids read
+// as the medium's (io/grid_mapping.h), into `mapping`; a malformed rule or a role given twice is a
+// flag error. And --from auto|blender|houdini|none: the preset for the roles the rules leave.
 void addGridMapping(CLI::App& app, GridMapping& mapping);
+
+// readMedium, then the reader's notes (what a preset mapped) on stderr as "TOOL: note: ...".
+std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path,
+                                              const GridMapping& mapping);
 
 // Writes `report` as indented JSON to `path` ("-": stdout), through a temporary file.
 void writeJsonReport(const std::string& path, const nlohmann::json& report);

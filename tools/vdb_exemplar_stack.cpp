@@ -98,7 +98,7 @@ int runCommand(const std::string& command, const Options& options, const std::st
   tool::checkOutputs(options.input, options.output, options.report);
   if (!options.layout.empty()) tool::checkDistinct(options.layout, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr in = readMedium(options.input, options.mapping);
+  const MediumPtr in = tool::readInputMedium(kTool, options.input, options.mapping);
   const double read_seconds = clock.lap();
   MediumPtr out;
   nlohmann::json details;

@@ -21,6 +21,7 @@ constexpr const char* kTool = "vdb_info";
 constexpr const char* kExamples = R"(Examples:
   vdb_info smoke.vdb                      grids, box, ranges and a render command that shows it
   vdb_info --json smoke.vdb | jq .render_command
+  vdb_info pyro.vdb --from none           the file's grids as they are, no colour detected
   vdb_make_medium cloud -o - | vdb_info -
 Reads the file as every tool does: a file the tools refuse gets the same one-line error here.)";
 

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     options.light = toVec3(light);
     if (options.view.norm() == 0 || options.light.norm() == 0) throw std::runtime_error("--view and --light must be non-zero");
     tool::checkOutputs(input, output, "");
-    const MediumPtr medium = readMedium(input, mapping);
+    const MediumPtr medium = tool::readInputMedium(kTool, input, mapping);
     ProgressBar progress("preview", 0);
     writeImage(renderPreview(*medium, options, &progress), output);
     return 0;

@@ -235,7 +235,7 @@ int main(int argc, char** argv) {
     if (!flags.preview.empty()) checkWritable(flags.preview);
     std::shared_ptr<const MediumView> medium;
     if (!scene.medium.empty()) {
-      medium = std::make_shared<MediumView>(readMedium(scene.medium, mapping), scene.interpolation, flags.no_sggx);
+      medium = std::make_shared<MediumView>(tool::readInputMedium(kTool, scene.medium, mapping), scene.interpolation, flags.no_sggx);
     }
     RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     if (!flags.sh_lightgrid.empty()) {

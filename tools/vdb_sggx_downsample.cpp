@@ -41,7 +41,7 @@ struct Options {
 int downsample(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr fine = readMedium(options.input, options.mapping);
+  const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
   const double read_seconds = clock.lap();
 
   DownsampleResult result;

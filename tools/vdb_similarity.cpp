@@ -133,7 +133,7 @@ void printSummary(const MediumSimilarityResult& r, double seconds) {
 int alterMediumFile(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr input = readMedium(options.input, options.mapping);
+  const MediumPtr input = tool::readInputMedium(kTool, options.input, options.mapping);
   const double read_seconds = clock.lap();
   MediumSimilarityResult result;
   {

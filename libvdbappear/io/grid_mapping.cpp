@@ -81,6 +81,22 @@ std::string gridRuleText(const GridRule& rule) {
   return text;
 }
 
+GridPreset parseGridPreset(const std::string& name) {
+  for (GridPreset preset : {GridPreset::kAuto, GridPreset::kNone, GridPreset::kBlender, GridPreset::kHoudini})
+    if (name == gridPresetName(preset)) return preset;
+  throw std::invalid_argument(fmt::format("'{}': expected auto, blender, houdini or none", name));
+}
+
+const char* gridPresetName(GridPreset preset) {
+  switch (preset) {
+    case GridPreset::kAuto: return "auto";
+    case GridPreset::kNone: return "none";
+    case GridPreset::kBlender: return "blender";
+    case GridPreset::kHoudini: return "houdini";
+  }
+  return "?";
+}
+
 void addGridRule(GridMapping& mapping, GridRule rule) {
   for (const GridRule& existing : mapping.rules)
     if (existing.role == rule.role)

@@ -20,10 +20,22 @@ struct GridRule {
   double scale = 1;
 };
 
-// The rules of one read, at most one per role. Empty: the grids are read as they are.
+// The grid conventions of other programs (docs/medium.md §12, io/grid_presets.h): kBlender reads
+// a Mantaflow smoke cache's colour or a Volume object's `color` as the albedo, kHoudini a `Cd`;
+// kAuto detects them from the grids of a file that has no albedo grid, and the reader says what it
+// mapped (Medium::read_notes); kNone reads the grids as they are.
+enum class GridPreset { kAuto, kNone, kBlender, kHoudini };
+
+// The rules of one read, at most one per role, and a preset for the roles they leave. No rules and
+// kNone: the grids are read as they are.
 struct GridMapping {
   std::vector<GridRule> rules;
+  GridPreset preset = GridPreset::kAuto;
 };
+
+// "auto", "none", "blender", "houdini"; throws std::invalid_argument naming the choices.
+GridPreset parseGridPreset(const std::string& name);
+const char* gridPresetName(GridPreset preset);
 
 // Parses ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE] ("albedo=Cd", "albedo=color_r,color_g,color_b",
 // "albedo=color_r,color_g,color_b/density", "density=density:0.5"). Throws std::invalid_argument

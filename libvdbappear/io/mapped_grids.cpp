@@ -1,5 +1,6 @@
 #include "libvdbappear/io/mapped_grids.h"
 
+#include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/util/error.h"
@@ -155,25 +156,50 @@ openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule
 
 }  // namespace
 
-openvdb::GridPtrVec applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping,
-                                     const std::string& source) {
-  if (mapping.rules.empty()) return grids;
+MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping, const std::string& source) {
+  MappedGrids result;
   openvdb::GridPtrVec made;
   std::set<std::string> replaced;
-  for (const GridRule& rule : mapping.rules) {
-    made.push_back(madeGrid(grids, rule, source));
+  const auto apply = [&](const GridRule& rule, const std::string& made_by) {
+    openvdb::GridBase::Ptr grid = madeGrid(grids, rule, source);
     try {
-      validateGrid(*made.back(), source);
+      validateGrid(*grid, source);
     } catch (const MediumError& e) {
-      throw MediumError(fmt::format("{} (made by --grid {})", e.what(), gridRuleText(rule)));
+      throw MediumError(fmt::format("{} (made by {})", e.what(), made_by));
     }
+    made.push_back(grid);
+    result.applied.push_back(rule);
     replaced.insert(rule.role);
     replaced.insert(rule.sources.begin(), rule.sources.end());
+  };
+  for (const GridRule& rule : mapping.rules) apply(rule, "--grid " + gridRuleText(rule));
+  const std::string from = gridPresetName(mapping.preset);
+  const std::vector<PresetRule> preset = presetRules(grids, mapping.preset, mapping.rules);
+  for (const PresetRule& p : preset) {
+    const std::string text = gridRuleText(p.rule);
+    try {
+      apply(p.rule, fmt::format("--from {}: --grid {}", from, text));
+    } catch (const MediumError& e) {
+      if (mapping.preset != GridPreset::kAuto) throw;
+      std::string reason = e.what();  // "SOURCE: grid ...": the note names the source once
+      if (reason.rfind(source + ": ", 0) == 0) reason.erase(0, source.size() + 2);
+      result.notes.push_back(fmt::format("{}: {}: not read as --grid {}, the grids are read as they are: {}", source,
+                                         p.convention, text, reason));
+      continue;
+    }
+    result.notes.push_back(fmt::format("{}: {}: read as --grid {}{}", source, p.convention, text,
+                                       mapping.preset == GridPreset::kAuto ? " (--from none reads the grids as they are)" : ""));
   }
-  openvdb::GridPtrVec result;
+  if (preset.empty() && (mapping.preset == GridPreset::kBlender || mapping.preset == GridPreset::kHoudini) &&
+      std::none_of(mapping.rules.begin(), mapping.rules.end(), [](const GridRule& r) { return r.role == grid_names::kAlbedo; }))
+    result.notes.push_back(fmt::format("{}: --from {}: none of its colour grids ({}): the grids are read as they are",
+                                       source, from,
+                                       mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
+  if (mapping.preset != GridPreset::kNone && isForeignFile(grids, mapping.preset))
+    if (auto unread = unreadConventionGrids(grids)) result.notes.push_back(fmt::format("{}: {}", source, *unread));
   for (const auto& grid : grids)
-    if (!replaced.count(grid->getName())) result.push_back(grid);
-  result.insert(result.end(), made.begin(), made.end());
+    if (!replaced.count(grid->getName())) result.grids.push_back(grid);
+  result.grids.insert(result.grids.end(), made.begin(), made.end());
   return result;
 }
 

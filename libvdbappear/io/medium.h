@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace vdbappear {
 
@@ -59,6 +60,8 @@ struct Medium {
   openvdb::GridPtrVec other_grids;      // multi-lobe, tabulated phase and unknown grids, as read
   openvdb::MetaMap metadata;            // file-level metadata: history, schema, ...
   std::string source;                   // where it was read from, for messages ("stdin", a path)
+  std::vector<GridRule> grid_rules;     // the grid mapping applied as it was read (io/grid_mapping.h)
+  std::vector<std::string> read_notes;  // what the reader decided for the user (a preset), a line each
 
   bool hasSggx() const { return sggx_diag || sggx_offdiag; }
   const openvdb::math::Transform& transform() const { return density->transform(); }

@@ -169,19 +169,27 @@ MediumPtr readMedium(const std::string& path, const GridMapping& mapping) {
     return readMediumStream(std::cin, "stdin", mapping);
   }
   VdbContents contents = readVdbFile(path);  // validates each grid as it is read
-  contents.grids = applyGridMapping(contents.grids, mapping, path);
+  MappedGrids mapped = applyGridMapping(contents.grids, mapping, path);
+  contents.grids = std::move(mapped.grids);
   MediumPtr medium = toMedium(std::move(contents), path);
   validateAcrossGrids(*medium, path);
+  medium->grid_rules = std::move(mapped.applied);
+  medium->read_notes = std::move(mapped.notes);
   return medium;
 }
+
+const std::vector<std::string>& readNotes(const Medium& medium) { return medium.read_notes; }
 
 MediumPtr readMediumStream(std::istream& in, const std::string& source, const GridMapping& mapping) {
   openvdb::initialize();
   VdbContents contents = readVdbStream(in, source);
   for (const auto& grid : contents.grids) validateGrid(*grid, source);
-  contents.grids = applyGridMapping(contents.grids, mapping, source);
+  MappedGrids mapped = applyGridMapping(contents.grids, mapping, source);
+  contents.grids = std::move(mapped.grids);
   MediumPtr medium = toMedium(std::move(contents), source);
   validateAcrossGrids(*medium, source);
+  medium->grid_rules = std::move(mapped.applied);
+  medium->read_notes = std::move(mapped.notes);
   return medium;
 }
 

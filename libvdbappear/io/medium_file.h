@@ -7,6 +7,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace vdbappear {
 
@@ -20,6 +21,9 @@ MediumPtr readMedium(const std::string& path, const GridMapping& mapping = {});
 // Reads and validates a medium from a VDB stream (what readMedium("-") reads from stdin); errors
 // name `source`.
 MediumPtr readMediumStream(std::istream& in, const std::string& source, const GridMapping& mapping = {});
+// What the reader decided for the user as it read `medium` (what a preset mapped), one line each:
+// Medium::read_notes, for tools that do not include OpenVDB.
+const std::vector<std::string>& readNotes(const Medium& medium);
 
 // Validates the medium (a tool never writes what the tools would refuse to read), appends
 // history_line to its `history` metadata, stamps `schema`, and writes it. A file is written to a

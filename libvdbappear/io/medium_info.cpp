@@ -26,11 +26,13 @@ std::optional<std::string> contractRole(const std::string& name) {
 
 std::optional<std::string> foreignGridRole(const std::string& name) {
   if (name == "color" || name == "Cd")
-    return fmt::format("colour (Blender's volume colour, Houdini's Cd), not read unless mapped: where it is the "
-                       "single-scattering albedo, --grid albedo={} (docs/medium.md section 12)", name);
+    return fmt::format("colour (Blender's volume colour, Houdini's Cd), not read: the file has an albedo grid, or "
+                       "--from none; where it is the single-scattering albedo, --grid albedo={} (docs/medium.md "
+                       "section 12)", name);
   if (name == "color_r" || name == "color_g" || name == "color_b")
-    return "a channel of a Mantaflow smoke colour, not read unless mapped: Mantaflow stores colour times density; "
-           "--grid albedo=color_r,color_g,color_b/density divides it back (docs/medium.md section 12)";
+    return "a channel of a Mantaflow smoke colour, not read: the file has an albedo grid, or --from none; Mantaflow "
+           "stores colour times density, and --grid albedo=color_r,color_g,color_b/density divides it back "
+           "(docs/medium.md section 12)";
   if (name == "flame" || name == "temperature" || name == "heat")
     return "fire (emission): the medium contract has no emission yet, so no tool renders it (issue 26)";
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)
@@ -130,6 +132,7 @@ void suggestRender(const std::string& file, MediumInfo& info) {
 
 MediumInfo describeMedium(const Medium& medium, const std::string& file) {
   MediumInfo info;
+  info.notes = medium.read_notes;  // what the reader mapped, first
   describeGrids(medium, info);
   for (auto m = medium.metadata.beginMeta(); m != medium.metadata.endMeta(); ++m)
     info.metadata.emplace_back(m->first, metadataText(*m->second));

@@ -55,12 +55,13 @@ std::string statusOf(const WeightOptimizer& optimizer) {
 }
 
 // What addresses FULL in the reference cache and the checkpoints: its bytes, and the grid mapping it
-// was read with, if any (a mapping makes another medium of the same file).
-std::string fullMediumKey(const WeightOptimizationOptions& options) {
-  const std::string bytes = hashFile(options.full);
-  if (options.full_mapping.rules.empty()) return bytes;
+// was read with, if any (a mapping makes another medium of the same file): the explicit rules and
+// a preset's, detected or not.
+std::string fullMediumKey(const std::string& path, const Medium& full) {
+  const std::string bytes = hashFile(path);
+  if (full.grid_rules.empty()) return bytes;
   std::string key = bytes;
-  for (const GridRule& rule : options.full_mapping.rules) key += " --grid " + gridRuleText(rule);
+  for (const GridRule& rule : full.grid_rules) key += " --grid " + gridRuleText(rule);
   return hashText(key);
 }
 
@@ -72,6 +73,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   if (options.full == "-")
     throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
   const MediumPtr full = readMedium(options.full, options.full_mapping);
+  for (const std::string& line : full->read_notes) note(line);
   const MediumPtr lobes = readMedium(options.lobes);
   const LobeMediumLayout layout = inspectLobeMedium(*lobes);
   const int factor = downsamplingFactor(*full, *lobes);
@@ -87,7 +89,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
 
   // References: from the cache, else rendered and stored.
   Stopwatch clock;
-  const std::string full_hash = fullMediumKey(options);
+  const std::string full_hash = fullMediumKey(options.full, *full);
   const ReferenceCache cache(options.cache);
   std::vector<TrainingImage> images;
   {

@@ -67,16 +67,18 @@ TEST(GridMappingCli, EveryToolThatReadsMediaTakesGrid) {
                            VDB_EXEMPLAR_STACK}) {
     const auto help = runCommand(quote(tool) + " --help");
     EXPECT_NE(help.out.find("--grid ROLE=GRID"), std::string::npos) << tool;
+    EXPECT_NE(help.out.find("--from auto|blender|houdini|none"), std::string::npos) << tool;
   }
 }
 
-// A red Cd read as the albedo makes a red cube; without the mapping the cube is white (control).
+// A red Cd read as the albedo makes a red cube; with --from none and no rule the cube is white
+// (control).
 TEST(GridMappingCli, RenderSeesTheMappedColour) {
   const TempDir dir;
   const std::string input = cubeWithCd(dir), red = dir.path("red.exr"), white = dir.path("white.exr");
   const std::string flags = " --res 16 --spp 8 --env 1 --view -x";
   ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(input) + " --grid albedo=Cd -o " + quote(red) + flags).status, 0);
-  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(input) + " -o " + quote(white) + flags).status, 0);
+  ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(input) + " --from none -o " + quote(white) + flags).status, 0);
   const RgbImage r = readRgbImage(red), w = readRgbImage(white);
   EXPECT_GT(meanChannel(r, 0), 1.3 * meanChannel(r, 1));
   EXPECT_NEAR(meanChannel(w, 0), meanChannel(w, 1), 1e-6);
@@ -128,6 +130,35 @@ TEST(GridMappingCli, InfoReportsTheMappedAlbedo) {
   EXPECT_EQ(r.out.find("\"Cd\""), std::string::npos);
 }
 
+// With no flag, the files of both programs render with their colour, detected: the Houdini cube
+// and the Mantaflow cube give the images of their explicit rules, bit for bit, and each tool says in
+// one note on stderr what it mapped; --from blender on the Houdini file maps nothing and says so.
+TEST(GridMappingCli, DetectedConventionsRenderTheirColourWithANote) {
+  const TempDir dir;
+  const std::string flags = " --res 16 --spp 8 --env 1 --view -x --seed 3";
+  const struct {
+    std::string input, rule, note;
+  } files[] = {{cubeWithCd(dir), "--grid albedo=Cd", "Houdini's Cd: read as --grid albedo=Cd (--from none"},
+               {cubeWithMantaflowColour(dir), "--grid albedo=color_r,color_g,color_b/density",
+                "Blender's smoke cache (Mantaflow): read as --grid albedo=color_r,color_g,color_b/density"}};
+  for (const auto& f : files) {
+    const std::string detected = dir.path("detected.exr"), ruled = dir.path("ruled.exr");
+    const auto r = runCommand(quote(VDB_RENDER) + " " + quote(f.input) + " -o " + quote(detected) + flags);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("vdb_render: note: " + f.input + ": " + f.note), std::string::npos) << r.err;
+    ASSERT_EQ(runCommand(quote(VDB_RENDER) + " " + quote(f.input) + " " + f.rule + " -o " + quote(ruled) + flags).status, 0);
+    const RgbImage a = readRgbImage(detected), b = readRgbImage(ruled);
+    EXPECT_EQ(a.pixels, b.pixels) << f.input;
+    EXPECT_GT(meanChannel(a, 0), 1.3 * meanChannel(a, 1)) << f.input;
+  }
+  const std::string out = dir.path("preview.png");
+  const auto blender = runCommand(quote(VDB_PREVIEW) + " " + quote(files[0].input) + " --from blender -o " + quote(out));
+  ASSERT_EQ(blender.status, 0) << blender.err;
+  EXPECT_NE(blender.err.find("vdb_preview: note: " + files[0].input + ": --from blender: none of its colour grids"),
+            std::string::npos)
+      << blender.err;
+}
+
 TEST(GridMappingCli, BadMappingsFailWithOneLineAndNoOutput) {
   const TempDir dir;
   const std::string input = cubeWithCd(dir), out = dir.path("out.exr");
@@ -140,6 +171,7 @@ TEST(GridMappingCli, BadMappingsFailWithOneLineAndNoOutput) {
       {"--grid colour=Cd", "'colour' is not a grid of the medium contract", -1},
       {"--grid albedo=Cd --grid albedo=density", "albedo is already mapped", -1},
       {"--grid density=density:0", "is not a number > 0", -1},
+      {"--from maya", "'maya': expected auto, blender, houdini or none", -1},
   };
   for (const auto& c : cases) {
     const auto r = runCommand(quote(VDB_RENDER) + " " + quote(input) + " " + c.flag + " --res 4 --spp 1 -o " + quote(out));

@@ -29,8 +29,8 @@ const std::string kInfo = quote(VDB_INFO);
 const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
 const std::string kRender = quote(VDB_RENDER);
 
-json infoJson(const std::string& path) {
-  const auto r = runCommand(kInfo + " --json " + quote(path));
+json infoJson(const std::string& path, const std::string& flags = "") {
+  const auto r = runCommand(kInfo + " --json " + quote(path) + flags);
   EXPECT_EQ(r.status, 0) << r.err;
   return json::parse(r.out);
 }
@@ -81,7 +81,8 @@ TEST(InfoCli, DescribesAMediumAsTheToolsReadIt) {
 }
 
 // A file as Mantaflow and Houdini write them: the contract's density, and grids no tool reads yet,
-// each named with what it is and marked as not read, in the JSON and in the text.
+// each named with what it is and marked as not read, in the JSON and in the text. Read as it is
+// (--from none); by default its Cd is detected as the albedo, which the notes say first.
 TEST(InfoCli, NamesForeignGridsAndSaysTheyAreNotRead) {
   const TempDir dir;
   const MediumPtr cloud = test::randomMedium(8);
@@ -98,7 +99,11 @@ TEST(InfoCli, NamesForeignGridsAndSaysTheyAreNotRead) {
   }
   const std::string path = dir.path("foreign.vdb");
   test::writeRawVdb(path, grids);
-  const json info = infoJson(path);
+  const json detected = infoJson(path);
+  EXPECT_TRUE(gridNamed(detected, "albedo").at("used").get<bool>());
+  EXPECT_NE(detected.at("notes").at(0).get<std::string>().find("Houdini's Cd: read as --grid albedo=Cd"), std::string::npos)
+      << detected.at("notes");
+  const json info = infoJson(path, " --from none");
   EXPECT_TRUE(gridNamed(info, "density").at("used").get<bool>());
   const std::vector<std::pair<std::string, std::string>> expected = {
       {"color_r", "Mantaflow"}, {"Cd", "Houdini"}, {"temperature", "emission"}, {"flame", "emission"},
@@ -111,7 +116,7 @@ TEST(InfoCli, NamesForeignGridsAndSaysTheyAreNotRead) {
   const std::string notes = info.at("notes").dump();
   EXPECT_NE(notes.find("no 'albedo' grid"), std::string::npos) << notes;
   EXPECT_NE(notes.find("'Cd'"), std::string::npos) << notes;
-  const auto text = runCommand(kInfo + " " + quote(path));
+  const auto text = runCommand(kInfo + " " + quote(path) + " --from none");
   ASSERT_EQ(text.status, 0) << text.err;
   EXPECT_NE(text.out.find("NOT READ"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("vdb_render " + path), std::string::npos) << text.out;

@@ -120,8 +120,10 @@ TEST(GridMapping, OneVectorGridBecomesTheAlbedo) {
   const MediumPtr medium = readMedium(file.path, mappingOf({"albedo=Cd"}));
   expectAlbedoIsTheColour(*medium);
   for (const auto& grid : medium->other_grids) EXPECT_NE(grid->getName(), "Cd");
-  // Negative control: without the mapping, the medium is white.
-  EXPECT_FALSE(readMedium(file.path)->albedo);
+  // Negative control: without the mapping (and no preset), the medium is white.
+  GridMapping none;
+  none.preset = GridPreset::kNone;
+  EXPECT_FALSE(readMedium(file.path, none)->albedo);
 }
 
 // albedo=color_r,color_g,color_b: the three channels in order.
@@ -253,6 +255,150 @@ TEST(GridMapping, GridsOnDifferentTransformsAreRefused) {
   // Negative control: the same rules on grids that share the density's transform.
   const std::string same = write("same.vdb", {{"density", 0.25}, {"r", 0.25}, {"g", 0.25}, {"b", 0.25}});
   EXPECT_EQ(error(same, {"albedo=r,g,b/density"}), "read");
+}
+
+GridMapping presetOf(GridPreset preset, std::initializer_list<const char*> rules = {}) {
+  GridMapping mapping = mappingOf(rules);
+  mapping.preset = preset;
+  return mapping;
+}
+
+std::string allNotes(const Medium& medium) {
+  std::string text;
+  for (const std::string& note : medium.read_notes) text += note + "\n";
+  return text;
+}
+
+TEST(GridMapping, PresetsParseByName) {
+  for (GridPreset preset : {GridPreset::kAuto, GridPreset::kNone, GridPreset::kBlender, GridPreset::kHoudini})
+    EXPECT_EQ(parseGridPreset(gridPresetName(preset)), preset);
+  try {
+    parseGridPreset("maya");
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'maya': expected auto, blender, houdini or none"), std::string::npos) << e.what();
+  }
+}
+
+// With no albedo grid and no albedo rule, the default (auto) reads a Mantaflow colour divided by
+// the density, as --grid albedo=color_r,color_g,color_b/density does, and says so in one note; the
+// rule it applied is the medium's (what the optimiser's reference cache keys on). Mantaflow's
+// channels come before a Cd in a file with both.
+TEST(GridMapping, AutoReadsMantaflowColourAndSaysSo) {
+  const ForeignFile file;  // density 2, colour channels and Cd
+  const MediumPtr medium = readMedium(file.path);
+  ASSERT_TRUE(medium->albedo);
+  for (auto v = medium->density->cbeginValueOn(); v; ++v)
+    EXPECT_EQ(medium->albedo->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()) * 0.5f) << v.getCoord();
+  ASSERT_EQ(medium->read_notes.size(), 1u) << allNotes(*medium);
+  EXPECT_EQ(medium->read_notes[0], file.path + ": Blender's smoke cache (Mantaflow): read as --grid "
+                                               "albedo=color_r,color_g,color_b/density (--from none reads the grids as they are)");
+  ASSERT_EQ(medium->grid_rules.size(), 1u);
+  EXPECT_EQ(gridRuleText(medium->grid_rules[0]), "albedo=color_r,color_g,color_b/density");
+}
+
+// --from houdini reads Cd; --from none reads nothing and says nothing; an explicit albedo rule
+// leaves the preset nothing to do.
+TEST(GridMapping, ExplicitPresetsAndRulesWin) {
+  const ForeignFile file;
+  const MediumPtr houdini = readMedium(file.path, presetOf(GridPreset::kHoudini));
+  expectAlbedoIsTheColour(*houdini);
+  ASSERT_EQ(houdini->read_notes.size(), 1u) << allNotes(*houdini);
+  EXPECT_EQ(houdini->read_notes[0], file.path + ": Houdini's Cd: read as --grid albedo=Cd");
+  const MediumPtr none = readMedium(file.path, presetOf(GridPreset::kNone));
+  EXPECT_FALSE(none->albedo);
+  EXPECT_TRUE(none->read_notes.empty()) << allNotes(*none);
+  EXPECT_TRUE(none->grid_rules.empty());
+  const MediumPtr explicit_rule = readMedium(file.path, mappingOf({"albedo=color_g"}));
+  EXPECT_EQ(explicit_rule->albedo->tree().getValue(Coord(0, 3, 0)), Vec3s(ForeignFile::colourAt(Coord(0, 3, 0))[1]));
+  EXPECT_TRUE(explicit_rule->read_notes.empty()) << allNotes(*explicit_rule);
+  // A medium of the contract, with an albedo grid, is read as it is.
+  TempDir dir;
+  const std::string contract = dir.path("contract.vdb");
+  const MediumPtr with_albedo = readMedium(file.path, mappingOf({"albedo=Cd"}));
+  writeMedium(*with_albedo, contract, "test");
+  const MediumPtr again = readMedium(contract);
+  EXPECT_TRUE(again->read_notes.empty()) << allNotes(*again);
+  EXPECT_TRUE(again->grid_rules.empty());
+}
+
+// A Volume object's `color` under --from blender; Blender's preset on a file with none of its
+// colour grids says so, and reads the grids as they are.
+TEST(GridMapping, BlenderVolumeObjectColourAndAPresetWithNothingToMap) {
+  TempDir dir;
+  const auto write = [&](const std::string& file, const char* colour_name) {
+    auto density = openvdb::FloatGrid::create(0.0f);
+    auto colour = openvdb::Vec3SGrid::create(Vec3s(0.0f));
+    density->tree().setValue(Coord(1, 1, 1), 3.0f);
+    colour->tree().setValue(Coord(1, 1, 1), Vec3s(0.25f, 0.5f, 0.75f));
+    density->setName("density");
+    colour->setName(colour_name);
+    test::writeRawVdb(dir.path(file), {density, colour});
+    return dir.path(file);
+  };
+  const MediumPtr volume = readMedium(write("volume.vdb", "color"), presetOf(GridPreset::kBlender));
+  EXPECT_EQ(volume->albedo->tree().getValue(Coord(1, 1, 1)), Vec3s(0.25f, 0.5f, 0.75f));
+  EXPECT_NE(allNotes(*volume).find("Blender's Volume object: read as --grid albedo=color"), std::string::npos);
+  const std::string houdini = write("houdini.vdb", "Cd");
+  const MediumPtr nothing = readMedium(houdini, presetOf(GridPreset::kBlender));
+  EXPECT_FALSE(nothing->albedo);
+  EXPECT_EQ(allNotes(*nothing), houdini + ": --from blender: none of its colour grids (color_r, color_g, color_b; "
+                                          "color): the grids are read as they are\n");
+}
+
+// A detected colour that is no albedo (a Cd up to 1.8) is left out with a note naming why, and the
+// file reads as it is; asked for by name (--from houdini), it is an error naming the preset's rule.
+TEST(GridMapping, DetectedColourOutsideTheAlbedoRangeIsLeftWithANote) {
+  TempDir dir;
+  const std::string path = dir.path("bright.vdb");
+  auto density = openvdb::FloatGrid::create(0.0f);
+  auto cd = openvdb::Vec3SGrid::create(Vec3s(0.0f));
+  density->tree().setValue(Coord(0, 0, 0), 1.0f);
+  cd->tree().setValue(Coord(0, 0, 0), Vec3s(1.8f, 0.4f, 0.4f));
+  density->setName("density");
+  cd->setName("Cd");
+  test::writeRawVdb(path, {density, cd});
+  const MediumPtr medium = readMedium(path);
+  EXPECT_FALSE(medium->albedo);
+  EXPECT_TRUE(medium->grid_rules.empty());
+  const std::string notes = allNotes(*medium);
+  EXPECT_NE(notes.find(path + ": Houdini's Cd: not read as --grid albedo=Cd, the grids are read as they are: grid "
+                              "'albedo': albedo (1.8"),
+            std::string::npos)
+      << notes;
+  try {
+    readMedium(path, presetOf(GridPreset::kHoudini));
+    FAIL() << "read";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("outside [0,1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(made by --from houdini: --grid albedo=Cd)"), std::string::npos) << e.what();
+  }
+}
+
+// Fire grids of both programs are named in a note (no tool renders emission yet); --from none is
+// silent, and so is a medium of the contract (with an albedo grid) that carries such a grid.
+TEST(GridMapping, EmissionGridsAreNamedInANote) {
+  TempDir dir;
+  const std::string path = dir.path("fire.vdb");
+  openvdb::GridPtrVec grids;
+  for (const char* name : {"density", "flame", "temperature"}) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->tree().setValue(Coord(0, 0, 0), 0.5f);
+    grid->setName(name);
+    grids.push_back(grid);
+  }
+  test::writeRawVdb(path, grids);
+  const MediumPtr fire = readMedium(path);
+  EXPECT_EQ(allNotes(*fire), path + ": 'flame', 'temperature' hold emission, which the medium contract does not "
+                                    "have yet: not rendered\n");
+  EXPECT_TRUE(readMedium(path, presetOf(GridPreset::kNone))->read_notes.empty());
+  auto albedo = openvdb::Vec3SGrid::create(Vec3s(0.0f));
+  albedo->tree().setValue(Coord(0, 0, 0), Vec3s(0.5f));
+  albedo->setName("albedo");
+  grids.push_back(albedo);
+  const std::string contract = dir.path("contract_with_fire.vdb");
+  test::writeRawVdb(contract, grids);
+  EXPECT_TRUE(readMedium(contract)->read_notes.empty()) << allNotes(*readMedium(contract));
 }
 
 }  // namespace

@@ -1,0 +1,83 @@
+#include "libvdbappear/io/grid_presets.h"
+
+#include "libvdbappear/io/medium.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+
+namespace vdbappear {
+
+namespace {
+
+template <typename GridT>
+bool hasGrid(const openvdb::GridPtrVec& grids, const std::string& name) {
+  return std::any_of(grids.begin(), grids.end(), [&](const openvdb::GridBase::Ptr& grid) {
+    return grid->getName() == name && grid->isType<GridT>();
+  });
+}
+
+bool hasAnyGrid(const openvdb::GridPtrVec& grids, const std::string& name) {
+  return std::any_of(grids.begin(), grids.end(), [&](const auto& grid) { return grid->getName() == name; });
+}
+
+std::optional<PresetRule> mantaflowColour(const openvdb::GridPtrVec& grids) {
+  for (const char* name : {"color_r", "color_g", "color_b", grid_names::kDensity})
+    if (!hasGrid<openvdb::FloatGrid>(grids, name)) return std::nullopt;
+  return PresetRule{parseGridRule("albedo=color_r,color_g,color_b/density"), "Blender's smoke cache (Mantaflow)"};
+}
+
+std::optional<PresetRule> volumeObjectColour(const openvdb::GridPtrVec& grids) {
+  if (!hasGrid<openvdb::Vec3SGrid>(grids, "color")) return std::nullopt;
+  return PresetRule{parseGridRule("albedo=color"), "Blender's Volume object"};
+}
+
+std::optional<PresetRule> houdiniColour(const openvdb::GridPtrVec& grids) {
+  if (!hasGrid<openvdb::Vec3SGrid>(grids, "Cd")) return std::nullopt;
+  return PresetRule{parseGridRule("albedo=Cd"), "Houdini's Cd"};
+}
+
+std::optional<PresetRule> albedoRule(const openvdb::GridPtrVec& grids, GridPreset preset) {
+  switch (preset) {
+    case GridPreset::kBlender:
+      if (auto rule = mantaflowColour(grids)) return rule;
+      return volumeObjectColour(grids);
+    case GridPreset::kHoudini: return houdiniColour(grids);
+    case GridPreset::kAuto:
+      if (hasAnyGrid(grids, grid_names::kAlbedo)) return std::nullopt;  // a medium of the contract
+      if (auto rule = mantaflowColour(grids)) return rule;
+      if (auto rule = houdiniColour(grids)) return rule;
+      return volumeObjectColour(grids);
+    case GridPreset::kNone: break;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<PresetRule> presetRules(const openvdb::GridPtrVec& grids, GridPreset preset,
+                                    const std::vector<GridRule>& explicit_rules) {
+  const bool albedo_given = std::any_of(explicit_rules.begin(), explicit_rules.end(),
+                                        [](const GridRule& rule) { return rule.role == grid_names::kAlbedo; });
+  std::vector<PresetRule> rules;
+  if (!albedo_given)
+    if (auto rule = albedoRule(grids, preset)) rules.push_back(std::move(*rule));
+  return rules;
+}
+
+bool isForeignFile(const openvdb::GridPtrVec& grids, GridPreset preset) {
+  if (preset == GridPreset::kBlender || preset == GridPreset::kHoudini) return true;
+  return preset == GridPreset::kAuto && !hasAnyGrid(grids, grid_names::kAlbedo);
+}
+
+std::optional<std::string> unreadConventionGrids(const openvdb::GridPtrVec& grids) {
+  std::vector<std::string> emission;
+  for (const char* name : {"flame", "temperature", "heat"})
+    if (hasAnyGrid(grids, name)) emission.push_back(fmt::format("'{}'", name));
+  if (emission.empty()) return std::nullopt;
+  return fmt::format("{} {} emission, which the medium contract does not have yet: not rendered",
+                     fmt::join(emission, ", "), emission.size() == 1 ? "holds" : "hold");
+}
+
+}  // namespace vdbappear
