@@ -154,53 +154,79 @@ openvdb::GridBase::Ptr madeGrid(const openvdb::GridPtrVec& grids, const GridRule
   return dividedBy<openvdb::Vec3SGrid>(openvdb::gridPtrCast<openvdb::Vec3SGrid>(made), *divisor, rule, source);
 }
 
-}  // namespace
+// One read's mapping in progress: the grids made so far and the names they replace.
+class GridMapper {
+ public:
+  GridMapper(const openvdb::GridPtrVec& grids, const std::string& source) : grids_(grids), source_(source) {}
 
-MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping, const std::string& source) {
-  MappedGrids result;
-  openvdb::GridPtrVec made;
-  std::set<std::string> replaced;
-  const auto apply = [&](const GridRule& rule, const std::string& made_by) {
-    openvdb::GridBase::Ptr grid = madeGrid(grids, rule, source);
+  // Makes the rule's grid; MediumError names `made_by` where the grid breaks its role's rules.
+  void apply(const GridRule& rule, const std::string& made_by) {
+    openvdb::GridBase::Ptr grid = madeGrid(grids_, rule, source_);
     try {
-      validateGrid(*grid, source);
+      validateGrid(*grid, source_);
     } catch (const MediumError& e) {
       throw MediumError(fmt::format("{} (made by {})", e.what(), made_by));
     }
-    made.push_back(grid);
-    result.applied.push_back(rule);
-    replaced.insert(rule.role);
-    replaced.insert(rule.sources.begin(), rule.sources.end());
-  };
-  for (const GridRule& rule : mapping.rules) apply(rule, "--grid " + gridRuleText(rule));
-  const std::string from = gridPresetName(mapping.preset);
-  const std::vector<PresetRule> preset = presetRules(grids, mapping.preset, mapping.rules);
-  for (const PresetRule& p : preset) {
-    const std::string text = gridRuleText(p.rule);
-    try {
-      apply(p.rule, fmt::format("--from {}: --grid {}", from, text));
-    } catch (const MediumError& e) {
-      if (mapping.preset != GridPreset::kAuto) throw;
-      std::string reason = e.what();  // "SOURCE: grid ...": the note names the source once
-      if (reason.rfind(source + ": ", 0) == 0) reason.erase(0, source.size() + 2);
-      result.notes.push_back(fmt::format("{}: {}: not read as --grid {}, the grids are read as they are: {}", source,
-                                         p.convention, text, reason));
-      continue;
-    }
-    result.notes.push_back(fmt::format("{}: {}: read as --grid {}{}", source, p.convention, text,
-                                       mapping.preset == GridPreset::kAuto ? " (--from none reads the grids as they are)" : ""));
+    made_.push_back(grid);
+    result_.applied.push_back(rule);
+    replaced_.insert(rule.role);
+    replaced_.insert(rule.sources.begin(), rule.sources.end());
   }
-  if (preset.empty() && (mapping.preset == GridPreset::kBlender || mapping.preset == GridPreset::kHoudini) &&
-      std::none_of(mapping.rules.begin(), mapping.rules.end(), [](const GridRule& r) { return r.role == grid_names::kAlbedo; }))
-    result.notes.push_back(fmt::format("{}: --from {}: none of its colour grids ({}): the grids are read as they are",
-                                       source, from,
-                                       mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
+
+  // A preset's rule, with a note of what it read; a detected one (kAuto) whose grid breaks its
+  // role's rules is left out with a note of why.
+  void applyPreset(const PresetRule& p, GridPreset preset) {
+    const std::string text = gridRuleText(p.rule);
+    const bool detected = preset == GridPreset::kAuto;
+    try {
+      apply(p.rule, fmt::format("--from {}: --grid {}", gridPresetName(preset), text));
+    } catch (const MediumError& e) {
+      if (!detected) throw;
+      std::string reason = e.what();  // "SOURCE: grid ...": the note names the source once
+      if (reason.rfind(source_ + ": ", 0) == 0) reason.erase(0, source_.size() + 2);
+      note(fmt::format("{}: not read as --grid {}, the grids are read as they are: {}", p.convention, text, reason));
+      return;
+    }
+    note(fmt::format("{}: read as --grid {}{}", p.convention, text,
+                     detected ? " (--from none reads the grids as they are)" : ""));
+  }
+
+  void note(const std::string& line) { result_.notes.push_back(fmt::format("{}: {}", source_, line)); }
+
+  MappedGrids finish() {
+    for (const auto& grid : grids_)
+      if (!replaced_.count(grid->getName())) result_.grids.push_back(grid);
+    result_.grids.insert(result_.grids.end(), made_.begin(), made_.end());
+    return std::move(result_);
+  }
+
+ private:
+  const openvdb::GridPtrVec& grids_;
+  const std::string& source_;
+  MappedGrids result_;
+  openvdb::GridPtrVec made_;
+  std::set<std::string> replaced_;
+};
+
+bool mapsAlbedo(const std::vector<GridRule>& rules) {
+  return std::any_of(rules.begin(), rules.end(), [](const GridRule& r) { return r.role == grid_names::kAlbedo; });
+}
+
+}  // namespace
+
+MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping, const std::string& source) {
+  GridMapper mapper(grids, source);
+  for (const GridRule& rule : mapping.rules) mapper.apply(rule, "--grid " + gridRuleText(rule));
+  const std::vector<PresetRule> preset = presetRules(grids, mapping.preset, mapping.rules);
+  for (const PresetRule& p : preset) mapper.applyPreset(p, mapping.preset);
+  const bool named = mapping.preset == GridPreset::kBlender || mapping.preset == GridPreset::kHoudini;
+  if (named && preset.empty() && !mapsAlbedo(mapping.rules))
+    mapper.note(fmt::format("--from {}: none of its colour grids ({}): the grids are read as they are",
+                            gridPresetName(mapping.preset),
+                            mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
   if (mapping.preset != GridPreset::kNone && isForeignFile(grids, mapping.preset))
-    if (auto unread = unreadConventionGrids(grids)) result.notes.push_back(fmt::format("{}: {}", source, *unread));
-  for (const auto& grid : grids)
-    if (!replaced.count(grid->getName())) result.grids.push_back(grid);
-  result.grids.insert(result.grids.end(), made.begin(), made.end());
-  return result;
+    if (auto unread = unreadConventionGrids(grids)) mapper.note(*unread);
+  return mapper.finish();
 }
 
 }  // namespace vdbappear
