@@ -49,17 +49,26 @@ void ThreadLimit::apply() {
     control_ = std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads_);
 }
 
+namespace {
+
+// Runs parse(text) for flag `flag`; the library's std::invalid_argument becomes CLI11's flag error.
+template <typename Parse>
+void parseFlag(const char* flag, const std::string& text, Parse&& parse) {
+  try {
+    parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError(flag, e.what());
+  }
+}
+
+}  // namespace
+
 void addGridMapping(CLI::App& app, GridMapping& mapping) {
   app.add_option_function<std::vector<std::string>>(
          "--grid",
          [&mapping](const std::vector<std::string>& rules) {
-           for (const std::string& text : rules) {
-             try {
-               addGridRule(mapping, parseGridRule(text));
-             } catch (const std::invalid_argument& e) {
-               throw CLI::ValidationError("--grid", e.what());
-             }
-           }
+           for (const std::string& text : rules)
+             parseFlag("--grid", text, [&](const std::string& t) { addGridRule(mapping, parseGridRule(t)); });
          },
          "read foreign grids as the medium's: ROLE=GRID (albedo=Cd), albedo=R,G,B (three float grids), "
          "albedo=.../GRID (a colour times density, divided by it: albedo=color_r,color_g,color_b/density), "
@@ -69,11 +78,7 @@ void addGridMapping(CLI::App& app, GridMapping& mapping) {
   app.add_option_function<std::string>(
          "--from",
          [&mapping](const std::string& name) {
-           try {
-             mapping.preset = parseGridPreset(name);
-           } catch (const std::invalid_argument& e) {
-             throw CLI::ValidationError("--from", e.what());
-           }
+           parseFlag("--from", name, [&](const std::string& t) { mapping.preset = parseGridPreset(t); });
          },
          "whose grid names to read for the roles --grid leaves: blender (a smoke cache's "
          "color_r,color_g,color_b/density, or a Volume object's color, as the albedo), houdini (Cd as the albedo), "
@@ -83,8 +88,7 @@ void addGridMapping(CLI::App& app, GridMapping& mapping) {
       ->default_str("auto");
 }
 
-std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path,
-                                              const GridMapping& mapping) {
+std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path, const GridMapping& mapping) {
   MediumPtr medium = readMedium(path, mapping);
   for (const std::string& note : readNotes(*medium)) fmt::print(stderr, "{}: note: {}\n", tool, note);
   return medium;

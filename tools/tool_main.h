@@ -40,8 +40,7 @@ class ThreadLimit {
 void addGridMapping(CLI::App& app, GridMapping& mapping);
 
 // readMedium, then the reader's notes (what a preset mapped) on stderr as "TOOL: note: ...".
-std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path,
-                                              const GridMapping& mapping);
+std::shared_ptr<Medium> readInputMedium(const std::string& tool, const std::string& path, const GridMapping& mapping);
 
 // Writes `report` as indented JSON to `path` ("-": stdout), through a temporary file.
 void writeJsonReport(const std::string& path, const nlohmann::json& report);
