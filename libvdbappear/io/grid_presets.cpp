@@ -56,12 +56,14 @@ std::optional<PresetRule> albedoRule(const openvdb::GridPtrVec& grids, GridPrese
 
 }  // namespace
 
+bool mapsAlbedo(const std::vector<GridRule>& rules) {
+  return std::any_of(rules.begin(), rules.end(), [](const GridRule& rule) { return rule.role == grid_names::kAlbedo; });
+}
+
 std::vector<PresetRule> presetRules(const openvdb::GridPtrVec& grids, GridPreset preset,
                                     const std::vector<GridRule>& explicit_rules) {
-  const bool albedo_given = std::any_of(explicit_rules.begin(), explicit_rules.end(),
-                                        [](const GridRule& rule) { return rule.role == grid_names::kAlbedo; });
   std::vector<PresetRule> rules;
-  if (!albedo_given)
+  if (!mapsAlbedo(explicit_rules))
     if (auto rule = albedoRule(grids, preset)) rules.push_back(std::move(*rule));
   return rules;
 }

@@ -25,6 +25,9 @@ struct PresetRule {
   std::string convention;
 };
 
+// Does one of `rules` make the albedo? Then no preset does.
+bool mapsAlbedo(const std::vector<GridRule>& rules);
+
 // The rules of `preset` that `grids` has the grids for, for the roles `explicit_rules` leave:
 // kBlender the smoke cache's colour, else a Volume object's; kHoudini `Cd`; kAuto the first of
 // these the file has, and none when it has an `albedo` grid already; kNone none.

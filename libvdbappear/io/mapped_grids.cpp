@@ -208,10 +208,6 @@ class GridMapper {
   std::set<std::string> replaced_;
 };
 
-bool mapsAlbedo(const std::vector<GridRule>& rules) {
-  return std::any_of(rules.begin(), rules.end(), [](const GridRule& r) { return r.role == grid_names::kAlbedo; });
-}
-
 }  // namespace
 
 MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping& mapping, const std::string& source) {

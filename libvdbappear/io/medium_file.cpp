@@ -160,6 +160,18 @@ MediumPtr toMedium(VdbContents contents, const std::string& source) {
   return medium;
 }
 
+// The medium of a file's validated grids: mapped (io/mapped_grids.h), sorted into roles, checked
+// across grids, with the rules applied and the reader's notes.
+MediumPtr mappedMedium(VdbContents contents, const GridMapping& mapping, const std::string& source) {
+  MappedGrids mapped = applyGridMapping(contents.grids, mapping, source);
+  contents.grids = std::move(mapped.grids);
+  MediumPtr medium = toMedium(std::move(contents), source);
+  validateAcrossGrids(*medium, source);
+  medium->grid_rules = std::move(mapped.applied);
+  medium->read_notes = std::move(mapped.notes);
+  return medium;
+}
+
 }  // namespace
 
 MediumPtr readMedium(const std::string& path, const GridMapping& mapping) {
@@ -168,14 +180,7 @@ MediumPtr readMedium(const std::string& path, const GridMapping& mapping) {
     if (isatty(STDIN_FILENO)) throw MediumError("stdin: is a terminal, expected a VDB stream (pipe or redirect one)");
     return readMediumStream(std::cin, "stdin", mapping);
   }
-  VdbContents contents = readVdbFile(path);  // validates each grid as it is read
-  MappedGrids mapped = applyGridMapping(contents.grids, mapping, path);
-  contents.grids = std::move(mapped.grids);
-  MediumPtr medium = toMedium(std::move(contents), path);
-  validateAcrossGrids(*medium, path);
-  medium->grid_rules = std::move(mapped.applied);
-  medium->read_notes = std::move(mapped.notes);
-  return medium;
+  return mappedMedium(readVdbFile(path), mapping, path);  // readVdbFile validates each grid as it is read
 }
 
 const std::vector<std::string>& readNotes(const Medium& medium) { return medium.read_notes; }
@@ -184,13 +189,7 @@ MediumPtr readMediumStream(std::istream& in, const std::string& source, const Gr
   openvdb::initialize();
   VdbContents contents = readVdbStream(in, source);
   for (const auto& grid : contents.grids) validateGrid(*grid, source);
-  MappedGrids mapped = applyGridMapping(contents.grids, mapping, source);
-  contents.grids = std::move(mapped.grids);
-  MediumPtr medium = toMedium(std::move(contents), source);
-  validateAcrossGrids(*medium, source);
-  medium->grid_rules = std::move(mapped.applied);
-  medium->read_notes = std::move(mapped.notes);
-  return medium;
+  return mappedMedium(std::move(contents), mapping, source);
 }
 
 void checkWritable(const std::string& path) {
