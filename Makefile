@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity subsurface clean
 
 all: build
 
@@ -94,7 +94,11 @@ optimize: build
 modularity: build
 	@scripts/modularity_experiment.py --build $(BUILD_DIR)
 
+# Translucent objects by the dipole (issue 22): the physical check against vdb_render's path tracing.
+subsurface: build
+	@scripts/subsurface_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out fuzz-out media
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out subsurface-out fuzz-out media
 
 include scripts/media.mk

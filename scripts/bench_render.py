@@ -33,7 +33,7 @@ import subprocess
 import sys
 import time
 
-from debian_packages import apt_install
+from debian_packages import apt_install, ensure_blender
 
 SCENE = ["--env", "0.3", "--sun", "1,0.6,-1.2,3"]
 THIN_SCENE = ["--env", "1", "--sun", "0.51,0.65,-0.565,3"]   # issue 19's thin sphere: a sky of 1 and a sun
@@ -61,12 +61,6 @@ MEDIA = {
 
 def run(cmd, **kw):
     return subprocess.run(cmd, check=True, text=True, capture_output=True, **kw)
-
-
-def ensure_blender():
-    if not shutil.which("blender"):
-        apt_install(["blender"], "benchmark only")
-    return shutil.which("blender") is not None
 
 
 def ensure_pyopenvdb():

@@ -1,6 +1,7 @@
 """Installing Debian packages that an experiment or benchmark script needs and the build does not
 (blender, python3-openvdb, python3-matplotlib): never build or test dependencies."""
 import os
+import shutil
 import subprocess
 import sys
 
@@ -18,3 +19,10 @@ def run_plot_script(name, args):
         apt_install(["python3-matplotlib"], "for the plot")
     script = os.path.join(os.path.dirname(os.path.abspath(__file__)), name)
     subprocess.run(["/usr/bin/python3", script] + [str(a) for a in args], check=True, text=True, capture_output=True)
+
+
+def ensure_blender(why="benchmark only"):
+    """Debian's blender (the peer renderer, and the EXR reader of the experiment scripts)."""
+    if not shutil.which("blender"):
+        apt_install(["blender"], why)
+    return shutil.which("blender") is not None

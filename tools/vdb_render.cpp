@@ -29,6 +29,8 @@ constexpr const char* kExamples = R"(Examples:
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
   vdb_render houdini_smoke.vdb -o smoke.png --grid albedo=Cd --grid density=density:0.5   (foreign grid names)
+  vdb_render --translucent-mesh bunny.obj --sss-density 2.2,2.6,3.0 --sss-albedo 0.999 --camera-pos 0,-4,1
+      --camera-target 0,0,0 -o bunny.exr --sun 1,1,-1,3   (a translucent object by the dipole; docs/subsurface.md)
 Without a light flag or scene lights: a dim sky and a sun from the upper side (--env 0.1
 --sun 0.51,0.65,-0.565,3), which show a white smoke as well as a dark one. The white furnace
 (a white sky alone, the default before 2026-11-26) is --env 1.
@@ -39,9 +41,10 @@ struct Flags {
   std::string medium, output, preview, scene, report, res, view, interp, strategy, env_map, sh_lightgrid, sh_interp = "hermite";
   std::vector<double> camera_pos, camera_target, camera_up, env, sun, point_light, ground_albedo;
   std::vector<int> sh_light;
-  std::vector<std::string> aovs, meshes;
-  double fov = 30, time = 0, ground_height = 0;
-  int spp = 16, max_depth = -1;
+  std::vector<std::string> aovs, meshes, translucent_meshes;
+  std::vector<double> sss_density, sss_albedo;
+  double fov = 30, time = 0, ground_height = 0, sss_g = 0, sss_eta = 1.3, sss_spacing = 0.5, sss_solid_angle = 0.1;
+  int spp = 16, max_depth = -1, sss_light_samples = 64;
   std::uint64_t seed = 0;
   bool ground = false, verbose = false, no_sggx = false, sh_unshadowed = false;
 };
@@ -82,6 +85,21 @@ nlohmann::json lightsOf(const CLI::App& app, const Flags& f) {
   return lights;
 }
 
+// The material of --translucent-mesh: the --sss-* flags over TranslucentMaterial's defaults.
+TranslucentMaterial translucentOf(const CLI::App& app, const Flags& f) {
+  TranslucentMaterial material;
+  if (app.count("--sss-density")) material.sigma_t = rgbOf(f.sss_density, "--sss-density");
+  if (app.count("--sss-albedo")) material.albedo = rgbOf(f.sss_albedo, "--sss-albedo");
+  if (app.count("--sss-g")) material.g = f.sss_g;
+  if (app.count("--sss-eta")) material.eta = f.sss_eta;
+  try {
+    validateTranslucentMaterial(material, "--translucent-mesh");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
+  return material;
+}
+
 SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   SceneDescription scene = f.scene.empty() ? SceneDescription() : readSceneFile(f.scene);
   if (!f.medium.empty()) scene.medium = f.medium;
@@ -113,8 +131,12 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     if (app.count("--ground-albedo")) ground.albedo = rgbOf(f.ground_albedo, "--ground-albedo");
     scene.ground = ground;
   }
-  if (!f.meshes.empty()) scene.meshes.clear();  // flags override the file
+  if (!f.meshes.empty() || !f.translucent_meshes.empty()) scene.meshes.clear();  // flags override the file
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
+  for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), translucentOf(app, f)});
+  if (app.count("--sss-spacing")) scene.subsurface.sample_spacing = f.sss_spacing;
+  if (app.count("--sss-solid-angle")) scene.subsurface.max_solid_angle = f.sss_solid_angle;
+  if (app.count("--sss-light-samples")) scene.subsurface.light_samples = f.sss_light_samples;
   for (const std::string& aov : f.aovs) {
     if (aov == "variance" || aov == "alpha") continue;
     if (aov == "dweights") {
@@ -125,7 +147,7 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     scene.render.cluster_coverage = true;
   }
   if (scene.medium.empty() && scene.meshes.empty() && !scene.ground)
-    throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene), a mesh or a ground");
+    throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene), a mesh, a translucent mesh or a ground");
   if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
   return scene;
 }
@@ -157,6 +179,22 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--ground-height", f.ground_height, "z of the ground plane (implies --ground)");
   app.add_option("--ground-albedo", f.ground_albedo, "ground albedo A or R,G,B (default 0.5)")->delimiter(',')->expected(1, 3);
   app.add_option("--mesh", f.meshes, "diffuse mesh (OBJ, PLY; albedo 0.5); repeatable");
+  app.add_option("--translucent-mesh", f.translucent_meshes,
+                 "closed mesh of a translucent interior, rendered by the dipole (docs/subsurface.md); repeatable")
+      ->check(CLI::ExistingFile);
+  app.add_option("--sss-density", f.sss_density, "translucent interior: extinction sigma_t D[,G,B] per world unit (100)")
+      ->delimiter(',')->expected(1, 3);
+  app.add_option("--sss-albedo", f.sss_albedo, "translucent interior: albedo A[,G,B] (0.99)")->delimiter(',')->expected(1, 3);
+  app.add_option("--sss-g", f.sss_g, "translucent interior: HG asymmetry g (0)");
+  app.add_option("--sss-eta", f.sss_eta, "translucent boundary: index of refraction n_inside/n_outside (1.3)");
+  app.add_option("--sss-spacing", f.sss_spacing,
+                 "longest edge of the irradiance samples' faces, in diffusion lengths 1/sigma_tr (0.5)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--sss-solid-angle", f.sss_solid_angle,
+                 "hierarchical integration: solid angle below which a cluster of samples is one term (0.1; 0: every sample)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--sss-light-samples", f.sss_light_samples, "irradiance samples: light samples per point and area or sky light (64)")
+      ->check(CLI::Range(1, 1 << 20));
   app.add_flag("--no-sggx", f.no_sggx, "ignore the SGGX grids (S = I: isotropic extinction and scattering), to compare "
                "with renderers that lack SGGX");
   app.add_option("--interp", f.interp, "voxel lookup: nearest (default) or trilinear");

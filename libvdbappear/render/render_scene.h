@@ -13,6 +13,7 @@
 namespace vdbappear {
 
 class ShGridLookup;
+class TranslucentObject;
 
 struct RenderScene {
   std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
@@ -21,6 +22,8 @@ struct RenderScene {
   std::shared_ptr<const LobeWeightScales> lobe_scales;
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
+  // Closed meshes whose light leaves by the dipole (subsurface/); SurfaceHit::translucent indexes this.
+  std::vector<std::shared_ptr<const TranslucentObject>> translucent;
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
   // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5) at vertices
   // inside its box, instead of next-event estimation of every area light; outside the box the lights

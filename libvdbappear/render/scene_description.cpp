@@ -3,6 +3,9 @@
 #include "libvdbappear/render/area_light.h"
 #include "libvdbappear/render/environment_light.h"
 #include "libvdbappear/render/mesh_file.h"
+#include "libvdbappear/subsurface/closed_mesh.h"
+#include "libvdbappear/subsurface/direct_irradiance.h"
+#include "libvdbappear/subsurface/surface_samples.h"
 #include "libvdbappear/util/json_int.h"
 
 #include <fmt/format.h>
@@ -108,11 +111,45 @@ json checkedLight(json light, const std::string& folder, const std::string& sour
   return light;
 }
 
+TranslucentMaterial translucentOf(const json& t, const std::string& source, const std::string& where) {
+  checkKeys(t, {"density", "albedo", "g", "eta"}, source, where);
+  TranslucentMaterial material;
+  if (t.contains("density")) material.sigma_t = rgbOf(t["density"], source, where + ".density");
+  if (t.contains("albedo")) material.albedo = rgbOf(t["albedo"], source, where + ".albedo");
+  if (t.contains("g")) material.g = numberOf<double>(t["g"], source, where + ".g");
+  if (t.contains("eta")) material.eta = numberOf<double>(t["eta"], source, where + ".eta");
+  try {
+    validateTranslucentMaterial(material, where);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: {}", source, e.what()));
+  }
+  return material;
+}
+
+void applySubsurface(const json& settings, const std::string& source, SubsurfaceSettings* subsurface) {
+  checkKeys(settings, {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples"}, source, "subsurface");
+  const auto positive = [&](const char* key, double* value) {
+    if (!settings.contains(key)) return;
+    *value = numberOf<double>(settings[key], source, std::string("subsurface.") + key);
+    if (!(*value > 0)) fail(source, std::string("subsurface.") + key, "must be > 0");
+  };
+  positive("sample_spacing", &subsurface->sample_spacing);
+  positive("disk_radius", &subsurface->disk_radius);
+  if (settings.contains("max_solid_angle")) {
+    subsurface->max_solid_angle = numberOf<double>(settings["max_solid_angle"], source, "subsurface.max_solid_angle");
+    if (!(subsurface->max_solid_angle >= 0)) fail(source, "subsurface.max_solid_angle", "must be >= 0");
+  }
+  if (settings.contains("light_samples")) {
+    subsurface->light_samples = numberOf<int>(settings["light_samples"], source, "subsurface.light_samples");
+    if (subsurface->light_samples < 1) fail(source, "subsurface.light_samples", "must be >= 1");
+  }
+}
+
 }  // namespace
 
 void applySceneJson(const json& json, const std::string& folder, const std::string& source, SceneDescription* scene) {
   checkKeys(json, {"medium", "resolution", "spp", "time", "seed", "max_depth", "interp", "strategy", "camera",
-                   "lights", "ground", "meshes"},
+                   "lights", "ground", "meshes", "subsurface"},
             source, "");
   if (json.contains("medium")) scene->medium = resolve(folder, json["medium"].get<std::string>());
   if (json.contains("resolution")) {
@@ -156,15 +193,17 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     if (json["ground"].contains("albedo")) ground.albedo = rgbOf(json["ground"]["albedo"], source, "ground.albedo");
     scene->ground = ground;
   }
+  if (json.contains("subsurface")) applySubsurface(json["subsurface"], source, &scene->subsurface);
   if (json.contains("meshes")) {
     if (!json["meshes"].is_array()) fail(source, "meshes", "expected an array");
     for (std::size_t i = 0; i < json["meshes"].size(); ++i) {
       const auto& m = json["meshes"][i];
       const std::string where = fmt::format("meshes[{}]", i);
-      checkKeys(m, {"file", "albedo"}, source, where);
+      checkKeys(m, {"file", "albedo", "translucent"}, source, where);
       if (!m.contains("file")) fail(source, where, "a mesh needs a \"file\"");
       MeshDescription mesh{resolve(folder, m["file"].get<std::string>())};
       if (m.contains("albedo")) mesh.albedo = rgbOf(m["albedo"], source, where + ".albedo");
+      if (m.contains("translucent")) mesh.translucent = translucentOf(m["translucent"], source, where + ".translucent");
       scene->meshes.push_back(mesh);
     }
   }
@@ -248,6 +287,19 @@ std::vector<Triangle> groundPlane(double height, const Aabb& around) {
   return {{a, b, d}, {a, d, e}};  // counter-clockwise seen from +z: normal +z
 }
 
+// Pass 1 of a translucent object: irradiance samples at the centroids of its faces, split to the
+// sample spacing, lit by the scene built so far (docs/subsurface.md §2).
+std::shared_ptr<const TranslucentObject> translucentObject(const TranslucentMaterial& material,
+                                                           const std::vector<Triangle>& triangles,
+                                                           const SceneDescription& description, const RenderScene& scene) {
+  const SubsurfaceSettings& settings = description.subsurface;
+  const double spacing = settings.sample_spacing * RgbDipole(material).shortestDiffusionLength();
+  const std::vector<SurfacePoint> points = surfacePoints(triangles, spacing);
+  std::vector<IrradianceSample> samples =
+      directIrradiance(points, material.eta, scene, settings.light_samples, description.render.seed);
+  return std::make_shared<const TranslucentObject>(material, std::move(samples), settings);
+}
+
 }  // namespace
 
 RenderScene buildRenderScene(const SceneDescription& description, std::shared_ptr<const MediumView> medium,
@@ -270,11 +322,18 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) everything.extend(v);
   }
+  std::vector<std::pair<const MeshDescription*, std::vector<Triangle>>> translucent;
   for (const MeshDescription& mesh : description.meshes) {
-    const std::vector<Triangle> triangles = readMesh(mesh.file);
-    scene.surfaces->addDiffuse(triangles, mesh.albedo);
+    std::vector<Triangle> triangles = readMesh(mesh.file);
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) everything.extend(v);
+    if (!mesh.translucent) {
+      scene.surfaces->addDiffuse(triangles, mesh.albedo);
+      continue;
+    }
+    triangles = outwardClosedMesh(std::move(triangles), mesh.file);
+    scene.surfaces->addTranslucent(triangles, int(translucent.size()));
+    translucent.emplace_back(&mesh, std::move(triangles));
   }
   if (description.ground) {
     const double height = description.ground->height.value_or(bounds.empty() ? 0.0 : bounds.lo.z());
@@ -283,8 +342,11 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
   scene.surfaces->commit();
   if (scene.surfaces->empty()) scene.surfaces.reset();
   scene.ray_epsilon = 1e-5 * std::max(1.0, everything.empty() ? 1.0 : everything.extent().norm());
+  for (const auto& [mesh, triangles] : translucent)
+    scene.translucent.push_back(translucentObject(*mesh->translucent, triangles, description, scene));
   return scene;
 }
+
 
 CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium) {
   const double aspect = double(scene.render.width) / scene.render.height;

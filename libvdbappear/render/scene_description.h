@@ -15,6 +15,7 @@
 #include "libvdbappear/medium/interpolation.h"
 #include "libvdbappear/render/camera.h"
 #include "libvdbappear/render/render_image.h"
+#include "libvdbappear/subsurface/translucent_object.h"
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,9 @@ namespace vdbappear {
 struct MeshDescription {
   std::string file;
   Rgb albedo = Rgb::Constant(0.5);
+  // A closed mesh of a translucent interior (docs/subsurface.md) instead of a diffuse surface:
+  // "translucent": {"density": D | [r,g,b], "albedo": A | [r,g,b], "g": G, "eta": ETA}.
+  std::optional<TranslucentMaterial> translucent;
 };
 
 struct GroundDescription {
@@ -46,6 +50,8 @@ struct SceneDescription {
   nlohmann::json lights = nlohmann::json::array();
   std::optional<GroundDescription> ground;
   std::vector<MeshDescription> meshes;
+  // "subsurface": {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples"}.
+  SubsurfaceSettings subsurface;
 };
 
 // The lights of a render that names none (issue 26): a dim sky of 0.1 and a sun of irradiance 3
@@ -65,7 +71,8 @@ SceneDescription readSceneFile(const std::string& path);
 void applySceneJson(const nlohmann::json& json, const std::string& folder, const std::string& source,
                     SceneDescription* scene);
 
-// Builds the lights and surfaces. read_image loads environment maps (the image library's
+// Builds the lights and surfaces, and runs pass 1 of each translucent object (its irradiance
+// samples; subsurface/direct_irradiance.h). read_image loads environment maps (the image library's
 // readRgbImage in tools). The camera is framed with --view on the medium's bounds when asked.
 using ImageReader = std::function<RgbImage(const std::string&)>;
 RenderScene buildRenderScene(const SceneDescription& scene, std::shared_ptr<const MediumView> medium,

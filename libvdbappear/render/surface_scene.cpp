@@ -16,6 +16,7 @@ namespace {
 struct GeometryInfo {
   Rgb albedo = Rgb::Zero();
   int light = -1;
+  int translucent = -1;
   std::vector<Vec3> normals;  // per triangle
 };
 
@@ -68,11 +69,15 @@ SurfaceScene::~SurfaceScene() {
 }
 
 void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo) {
-  impl_->add(triangles, GeometryInfo{albedo, -1, {}});
+  impl_->add(triangles, GeometryInfo{albedo, -1, -1, {}});
 }
 
 void SurfaceScene::addLight(const std::vector<Triangle>& triangles, int light_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, -1, {}});
+}
+
+void SurfaceScene::addTranslucent(const std::vector<Triangle>& triangles, int object_index) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, {}});
 }
 
 void SurfaceScene::commit() {
@@ -112,7 +117,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   rtcIntersect1(impl_->scene, &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const GeometryInfo& info = impl_->geometries[hit.hit.geomID];
-  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light};
+  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const {

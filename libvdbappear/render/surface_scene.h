@@ -1,6 +1,7 @@
 #pragma once
-// Opaque surfaces, intersected through Embree 3: diffuse meshes (OBJ/PLY, the ground plane) and
-// the triangles of area lights. Embree stays behind the implementation.
+// Opaque surfaces, intersected through Embree 3: diffuse meshes (OBJ/PLY, the ground plane), the
+// triangles of area lights and translucent objects' meshes (subsurface/translucent_object.h).
+// Embree stays behind the implementation.
 
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/render/area_light.h"  // Triangle
@@ -15,7 +16,8 @@ struct SurfaceHit {
   double t = 0;
   Vec3 normal;        // unit geometric normal, counter-clockwise orientation (not flipped)
   Rgb albedo;         // diffuse reflectance (meshes)
-  int light = -1;     // index of the area light hit, or -1 for a diffuse surface
+  int light = -1;     // index of the area light hit, or -1
+  int translucent = -1;  // index of the translucent object hit (RenderScene::translucent), or -1
 };
 
 class SurfaceScene {
@@ -27,6 +29,7 @@ class SurfaceScene {
 
   void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
   void addLight(const std::vector<Triangle>& triangles, int light_index);
+  void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // after the last add, before any query
   bool empty() const;
 

@@ -8,6 +8,7 @@
 #include "libvdbappear/lightgrid/sh_lighting.h"
 #include "libvdbappear/render/area_light.h"
 #include "libvdbappear/render/path_gradients.h"
+#include "libvdbappear/subsurface/translucent_object.h"
 
 #include <stdexcept>
 
@@ -146,13 +147,13 @@ Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, Medi
 }
 
 // Radiance of the environment lights along a ray that left the scene.
-Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const {
+Rgb VolumePathTracer::escapedRadiance(const Ray& ray, double prev_pdf, bool unweighted) const {
   Rgb L = Rgb::Zero();
   for (const auto& light : scene_.lights) {
     if (!light->isEnvironment()) continue;
     const Rgb Le = light->radiance(ray.d);
     // A light that next-event estimation leaves alone is reached here alone: weight 1, no pdf needed.
-    if (camera_ray || !samplesLight(*light)) L += Le;
+    if (unweighted || !samplesLight(*light)) L += Le;
     else L += Le * phaseSampledWeight(prev_pdf, light->pdf(ray.o, ray.d));
   }
   return L;
@@ -166,9 +167,11 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   bool prev_from_grid = false;  // the previous vertex's area light came from the SH grid
   const int max_depth = settings_.max_depth < 0 ? std::numeric_limits<int>::max() : settings_.max_depth;
   const double eps = scene_.ray_epsilon;
+  bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   for (int depth = 0;; ++depth) {
     const bool camera_ray = depth == 0;
+    const bool unweighted = camera_ray || prev_specular;
     std::optional<SurfaceHit> hit;
     if (scene_.surfaces) hit = scene_.surfaces->intersect(ray.o, ray.d, camera_ray ? 0.0 : eps, kInfinity);
     const double t_surface = hit ? hit->t : kInfinity;
@@ -189,19 +192,38 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const auto& light = static_cast<const AreaLight&>(*scene_.lights[hit->light]);
       const Rgb Le = light.emitted(hit->normal, -ray.d);
       if (prev_from_grid) break;  // its direct light came from the SH grid
-      const Rgb Le_weighted = camera_ray || !samplesLight(light)
+      const Rgb Le_weighted = unweighted || !samplesLight(light)
                                   ? Le
                                   : Rgb(Le * phaseSampledWeight(prev_pdf, light.pdf(ray.o, ray(hit->t), hit->normal)));
       result.L += beta * Le_weighted;
       if (gradients) gradients->addLight(Le_weighted);
       break;
+    } else if (hit && hit->translucent >= 0) {
+      // A translucent object: the dipole's light leaves it (scored like a light's, though
+      // next-event estimation never samples it), and its boundary reflects specularly.
+      const TranslucentObject& object = *scene_.translucent[std::size_t(hit->translucent)];
+      const double cos_theta = hit->normal.dot(-ray.d);
+      if (cos_theta <= 0) break;  // reached from inside: the interior is the dipole's
+      const Rgb Lo = object.radiance(ray(hit->t), cos_theta);
+      result.L += beta * Lo;
+      if (gradients) gradients->addLight(Lo);
+      const double F = object.specularReflectance(cos_theta);
+      if (depth >= max_depth || !(F > 0)) break;
+      ++result.scattering_events;
+      beta *= F;
+      if (gradients) gradients->scaleThroughput(F);
+      ray = {ray(hit->t) + eps * hit->normal, ray.d - 2 * ray.d.dot(hit->normal) * hit->normal};
+      prev_specular = true;
+      prev_from_grid = false;
+      if (!survivesRoulette(depth, rng, &beta, gradients)) break;
+      continue;
     } else if (hit) {
       vertex.on_surface = true;
       vertex.normal = hit->normal.dot(ray.d) < 0 ? hit->normal : Vec3(-hit->normal);
       vertex.p = ray(hit->t) + eps * vertex.normal;
       vertex.albedo = hit->albedo;
     } else {
-      const Rgb escaped = escapedRadiance(ray, prev_pdf, camera_ray);
+      const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);
       result.L += beta * escaped;
       if (gradients) gradients->addLight(escaped);
       break;
@@ -218,15 +240,21 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     if (gradients) gradients->scatter(vertex.scattering(), per_lobe.data(), beta, s.weight, s.pdf);
     beta *= s.weight;
     prev_pdf = s.pdf;
+    prev_specular = false;
     ray = {vertex.p, s.wo};
-    if (depth + 1 >= settings_.roulette_depth) {  // Russian roulette, unbiased
-      const double q = std::min(1.0, beta.maxCoeff());
-      if (rng.uniform() >= q) break;
-      beta /= q;
-      if (gradients) gradients->scaleThroughput(1 / q);
-    }
+    if (!survivesRoulette(depth, rng, &beta, gradients)) break;
   }
   return result;
+}
+
+// Russian roulette on the throughput after settings_.roulette_depth events, unbiased.
+bool VolumePathTracer::survivesRoulette(int depth, RandomStream& rng, Rgb* beta, PathGradients* gradients) const {
+  if (depth + 1 < settings_.roulette_depth) return true;
+  const double q = std::min(1.0, beta->maxCoeff());
+  if (rng.uniform() >= q) return false;
+  *beta /= q;
+  if (gradients) gradients->scaleThroughput(1 / q);
+  return true;
 }
 
 }  // namespace vdbappear

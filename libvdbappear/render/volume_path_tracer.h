@@ -3,7 +3,8 @@
 // free flights by delta tracking over the hierarchical majorant, real collisions scatter with the
 // voxel's scaled phase function (weight f_s / pdf, which carries the albedo), next-event estimation
 // of every light with ratio-tracked shadow rays, and multiple importance sampling (power heuristic) between light
-// sampling and phase or BRDF sampling. Surfaces are diffuse; area lights are hit as surfaces.
+// sampling and phase or BRDF sampling. Surfaces are diffuse; area lights are hit as surfaces;
+// translucent objects give the dipole's light and reflect specularly (subsurface/).
 
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/render/ray.h"
@@ -52,7 +53,9 @@ class VolumePathTracer {
                    PathGradients* gradients) const;
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
   double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
-  Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool camera_ray) const;
+  // unweighted: a camera ray or one leaving a specular reflection, which light sampling never reaches.
+  Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool unweighted) const;
+  bool survivesRoulette(int depth, RandomStream& rng, Rgb* beta, PathGradients* gradients) const;
   // Whether next-event estimation samples the light (delta lights always), and the weight of a
   // light it samples when a phase- or BRDF-sampled direction of density phase_pdf reaches it
   // instead (a light it does not sample has weight 1 there).

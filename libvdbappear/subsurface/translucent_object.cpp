@@ -1,0 +1,23 @@
+#include "libvdbappear/subsurface/translucent_object.h"
+
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/subsurface/fresnel.h"
+
+namespace vdbappear {
+
+TranslucentObject::TranslucentObject(const TranslucentMaterial& material, std::vector<IrradianceSample> samples,
+                                     const SubsurfaceSettings& settings)
+    : material_(material), dipole_(material), octree_(std::move(samples)), F_dt_(diffuseFresnelTransmittance(material.eta)) {
+  hierarchy_.max_solid_angle = settings.max_solid_angle;
+  hierarchy_.disk_radius = settings.disk_radius * dipole_.shortestDiffusionLength();
+}
+
+Rgb TranslucentObject::radiance(const Vec3& p, double cos_theta) const {
+  return estimate(p).S * (fresnelTransmittance(cos_theta, material_.eta) / (F_dt_ * kPi));
+}
+
+double TranslucentObject::specularReflectance(double cos_theta) const {
+  return material_.eta == 1 ? 0.0 : fresnelReflectance(cos_theta, material_.eta);
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,156 @@
+// Translucent objects in vdb_render (docs/subsurface.md): the dipole's radiance on a face lit head
+// on against the closed form, the path tracer's multiple scattering in the same cube against
+// Chandrasekhar's H function (the reference the dipole is judged by in `make subsurface`), thread
+// independence, and one clear error per kind of bad input.
+#include "libvdbappear/image/image_file.h"
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/subsurface/dipole.h"
+
+#include "cli/run_command.h"
+#include "support/temp_dir.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace vdbappear {
+namespace {
+
+using test::quote;
+using test::runCommand;
+using test::TempDir;
+
+const std::string kRender = quote(VDB_RENDER);
+
+// The cube of `vdb_make_medium cube`, [-0.5, 0.5]^3, as 12 counter-clockwise triangles.
+void writeCubeObj(const std::string& path, bool open = false) {
+  std::ofstream obj(path);
+  obj << "v -0.5 -0.5 -0.5\nv 0.5 -0.5 -0.5\nv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\n"
+         "v -0.5 -0.5 0.5\nv 0.5 -0.5 0.5\nv -0.5 0.5 0.5\nv 0.5 0.5 0.5\n"
+         "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\n";
+  if (!open) obj << "f 2 8 6\n";
+}
+
+// The camera looks at the +x face head on from x = 3; the face centre is the image centre.
+const std::string kHeadOn = " --camera-pos 3,0,0 --camera-target 0,0,0 --res 32 --sun -1,0,0,1";
+
+// Mean of the first channel over the central 6 x 6 pixels (a square of side 0.06 on the face).
+double centreMean(const std::string& exr) {
+  const RgbImage image = readRgbImage(exr);
+  double sum = 0;
+  for (int y = image.height / 2 - 3; y < image.height / 2 + 3; ++y)
+    for (int x = image.width / 2 - 3; x < image.width / 2 + 3; ++x) sum += image.at(x, y)[0];
+  return sum / 36;
+}
+
+// A face lit head on by a sun of irradiance E = 1, far from edges (8.7 diffusion lengths): S is E
+// times the total diffuse reflectance, and L = S / (pi F_dt) with F_dt = 1 at eta = 1. This checks
+// pass 1, the hierarchy and the exit term together.
+TEST(SubsurfaceCli, FaceLitHeadOnGivesTheClosedFormDiffuseReflectance) {
+  const TempDir dir;
+  const std::string obj = dir.path("cube.obj"), out = dir.path("dipole.exr");
+  writeCubeObj(obj);
+  ASSERT_EQ(runCommand(kRender + " --translucent-mesh " + quote(obj) +
+                       " --sss-density 100 --sss-albedo 0.99 --sss-eta 1 --spp 1 -o " + quote(out) + kHeadOn)
+                .status,
+            0);
+  TranslucentMaterial m;
+  m.sigma_t = Rgb::Constant(100);
+  m.albedo = Rgb::Constant(0.99);
+  m.eta = 1;
+  const double expected = RgbDipole(m).channel[0].totalDiffuseReflectance() / kPi;
+  EXPECT_NEAR(centreMean(out), expected, 0.005 * expected);
+}
+
+// H(mu) of isotropic scattering with albedo w, by iterating H = 1 / (1 - mu int_0^1 (w/2) H(mu') /
+// (mu + mu') dmu') on a midpoint grid (Chandrasekhar 1960, Ch. V).
+double chandrasekharH(double w, double mu) {
+  const int n = 400;
+  std::vector<double> H(n, 1.0);
+  const auto integral = [&](double m) {
+    double s = 0;
+    for (int j = 0; j < n; ++j) s += w / 2 * H[j] / (m + (j + 0.5) / n) / n;
+    return s;
+  };
+  for (int iteration = 0; iteration < 2000; ++iteration) {
+    std::vector<double> next(n);
+    for (int i = 0; i < n; ++i) next[i] = 1 / (1 - (i + 0.5) / n * integral((i + 0.5) / n));
+    H.swap(next);
+  }
+  return 1 / (1 - mu * integral(mu));
+}
+
+// The reference of the dipole's physical check: a half-space of isotropic albedo w lit head on with
+// irradiance E reflects L = E w H(1)^2 / (8 pi) straight back, single scattering E w / (8 pi) of it.
+// The path tracer's cube (8.7 diffusion lengths from the face centre to an edge) must give both.
+TEST(SubsurfaceCli, PathTracedCubeMatchesChandrasekharsHalfSpace) {
+  const TempDir dir;
+  const std::string cube = dir.path("cube.vdb"), full = dir.path("full.exr"), single = dir.path("single.exr");
+  ASSERT_EQ(runCommand(quote(VDB_MAKE_MEDIUM) + " cube --res 16 --density 100 --albedo 0.99 -o " + quote(cube)).status, 0);
+  const std::string args = kRender + " " + quote(cube) + kHeadOn + " --spp 512";
+  ASSERT_EQ(runCommand(args + " -o " + quote(full)).status, 0);
+  ASSERT_EQ(runCommand(args + " --max-depth 1 -o " + quote(single)).status, 0);
+  const double w = 0.99, H1 = chandrasekharH(w, 1.0);
+  EXPECT_NEAR(H1, 2.4728, 1e-3);  // the same iteration on a 2000-point grid
+  const double L_single = w / (8 * kPi), L_total = L_single * H1 * H1;
+  EXPECT_NEAR(centreMean(single), L_single, 0.02 * L_single);
+  EXPECT_NEAR(centreMean(full), L_total, 0.03 * L_total);
+}
+
+std::string bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Pass 1 draws each irradiance sample's light from its own stream: the image does not depend on
+// the thread count. A sky (64 light samples per point) and a sun, eta 1.3 (specular reflection).
+TEST(SubsurfaceCli, SameSeedSameImageWhateverTheThreadCount) {
+  const TempDir dir;
+  const std::string obj = dir.path("cube.obj"), one = dir.path("one.exr"), two = dir.path("two.exr");
+  writeCubeObj(obj);
+  const std::string args = kRender + " --translucent-mesh " + quote(obj) +
+                           " --sss-density 20 --sss-albedo 0.9,0.95,0.99 --env 0.2 --sun 1,1,-2,2 --res 24 --spp 4"
+                           " --camera-pos 2,-3,2 --camera-target 0,0,0 --seed 7";
+  ASSERT_EQ(runCommand(args + " -j 1 -o " + quote(one)).status, 0);
+  ASSERT_EQ(runCommand(args + " -j 2 -o " + quote(two)).status, 0);
+  EXPECT_EQ(bytesOf(one), bytesOf(two));
+}
+
+TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {
+  const TempDir dir;
+  const std::string cube = dir.path("cube.obj"), open = dir.path("open.obj"), out = dir.path("out.exr");
+  const std::string scene = dir.path("scene.json"), typo = dir.path("typo.json");
+  writeCubeObj(cube);
+  writeCubeObj(open, true);
+  std::ofstream(scene) << R"({"meshes": [{"file": "cube.obj", "translucent": {"density": -3}}]})";
+  std::ofstream(typo) << R"({"meshes": [{"file": "cube.obj", "translucent": {"densty": 3}}]})";
+  const std::string camera = " --camera-pos 3,0,0 --camera-target 0,0,0 --res 8";
+  struct BadInput {
+    std::string name, args, message;
+    bool flag_parser = false;  // CLI11's refusals add "Run with --help for more information."
+  };
+  const std::vector<BadInput> cases{
+      {"open mesh", "--translucent-mesh " + quote(open), "open.obj: the mesh is not closed"},
+      {"negative density", "--translucent-mesh " + quote(cube) + " --sss-density -1", "--translucent-mesh: density (sigma_t) -1"},
+      {"zero eta", "--translucent-mesh " + quote(cube) + " --sss-eta 0", "--translucent-mesh: eta 0 must be > 0"},
+      {"albedo above one", "--translucent-mesh " + quote(cube) + " --sss-albedo 1.2", "albedo 1.2 must lie in [0, 1]"},
+      {"g of one", "--translucent-mesh " + quote(cube) + " --sss-g 1", "g 1 must lie in (-1, 1)"},
+      {"zero spacing", "--translucent-mesh " + quote(cube) + " --sss-spacing 0", "--sss-spacing", true},
+      {"negative density in a scene", "--scene " + quote(scene), "scene.json: meshes[0].translucent: density (sigma_t) -3"},
+      {"unknown key in a scene", "--scene " + quote(typo), "typo.json: meshes[0].translucent.densty: unknown key"},
+      {"missing mesh", "--translucent-mesh " + quote(dir.path("none.obj")), "none.obj", true},
+  };
+  for (const BadInput& c : cases) {
+    const auto r = runCommand(kRender + " " + c.args + camera + " -o " + quote(out));
+    EXPECT_NE(r.status, 0) << c.name;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), c.flag_parser ? 2 : 1) << c.name << ": " << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace vdbappear
