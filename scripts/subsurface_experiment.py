@@ -1,7 +1,14 @@
 #!/usr/bin/env python3
 """Translucent objects (issue 22, the translucent-caching seed), measured: `make subsurface`.
 
-Physical check: the cube of `vdb_make_medium cube` (density 100, albedo 0.99, isotropic phase) path
+1. Cache against no cache (the seed's Table 4.1 setting): a bumpy sphere (270,000 triangles) and a
+   torus knot (256,000), from scripts/make_meshes.py, in Jensen et al. 2001's marble and skim milk
+   (per mm; the objects are 40 mm across), under a sun and a dim sky, at 1024x1024, 1 spp, each
+   rendered with caches (the default --sss-error) and with --sss-error 0 (integration at every pixel,
+   the seed's baseline). Reported: N, C, H, C/H, the seconds of each pass, the speed-up of passes 2-3
+   over the uncached render, the relative RMSE over the object's pixels of the image and of S at the
+   pixel centres (--aov sss), and of a one-pass scan's S (the seed's §3.5).
+2. Physical check: the cube of `vdb_make_medium cube` (density 100, albedo 0.99, isotropic phase) path
 traced by vdb_render, against the same cube as a translucent mesh (eta 1) rendered by the dipole,
 lit by a sun only. The path tracer's multiple scattering is MS = full - (--max-depth 1). Each lit
 face is seen head on, with windows at its centre, at the middle of an edge and at a corner (the
@@ -9,10 +16,10 @@ issue gates face centres at 15% and reports edges and corners). A head-on sun on
 anchors both to Chandrasekhar's half-space (H function): the exact MS there is 0.2015 E.
 A three-quarter view shows MS, the dipole and their error map side by side.
 
-EXR windows and MS = full - single (a PFM) are computed under Blender's Python (scripts/subsurface_windows.py;
+For 2, EXR windows and MS = full - single (a PFM) are computed under Blender's Python (scripts/subsurface_windows.py;
 Debian's blender is installed when missing).
 Results: subsurface-out/report.md and report.json, with the images.
-Usage: scripts/subsurface_experiment.py [--build build] [--out subsurface-out] [--spp 1024]
+Usage: scripts/subsurface_experiment.py [--build build] [--out subsurface-out] [--spp 1024] [--cache-res 1024]
 """
 import argparse
 import json
@@ -53,6 +60,22 @@ HALF = 0.03
 MATERIAL = ["--sss-density", 100, "--sss-albedo", 0.99, "--sss-eta", 1]
 SUN_OBLIQUE = [-0.4, 0.5, -0.77]
 SUN_HEAD_ON = [-1, 0, 0]
+
+
+# Jensen et al. 2001, Fig. 5: reduced scattering and absorption per mm (RGB), eta 1.3; g = 0, so that
+# density = sigma_s' + sigma_a and albedo = sigma_s' / density.
+MATERIALS = {"marble": ([2.19, 2.62, 3.00], [0.0021, 0.0041, 0.0071]),
+             "skimmilk": ([0.70, 1.22, 1.90], [0.0014, 0.0025, 0.0142])}
+MESHES = {"bumpy-sphere": (["--n", 150, "--radius", 20], "0,-80,30"),
+          "torus-knot": (["--radius", 20], "0,-75,55")}
+
+
+def material_flags(name):
+    scattering, absorption = MATERIALS[name]
+    density = [s + a for s, a in zip(scattering, absorption)]
+    albedo = [s / d for s, d in zip(scattering, density)]
+    return ["--sss-density", ",".join(f"{d:.6g}" for d in density), "--sss-albedo",
+            ",".join(f"{a:.6g}" for a in albedo), "--sss-eta", 1.3]
 
 
 def run(cmd, **kwargs):
@@ -99,6 +122,48 @@ def physical_check(build, out, spp, res):
     return rows
 
 
+def compare(build, reference, test, extra):
+    r = json.loads(run([build / "bin" / "vdb_image_compare", reference, test, "--mask", f"{reference}:sss.hit",
+                        "--report", "-"] + extra))
+    return r["relative_rmse"]
+
+
+def cache_against_integration(build, out, res):
+    rows = []
+    for mesh, (mesh_args, camera_pos) in MESHES.items():
+        obj = out / f"{mesh}.obj"
+        if not obj.exists():
+            run(["python3", pathlib.Path(__file__).with_name("make_meshes.py"), mesh, obj] + mesh_args)
+        for material in MATERIALS:
+            args = ["--translucent-mesh", obj] + material_flags(material) + [
+                "--camera-pos", camera_pos, "--camera-target", "0,0,0", "--res", res, "--spp", 1,
+                "--sun", "-0.4,0.5,-0.77,3", "--env", 0.1, "--aov", "sss"]
+            tag = f"{mesh}_{material}"
+            reports = {}
+            for mode, flags in (("uncached", ["--sss-error", 0]), ("cached", [])):
+                image, report = out / f"{tag}_{mode}.exr", out / f"{tag}_{mode}.json"
+                run([build / "bin" / "vdb_render"] + args + flags + ["-o", image, "--preview", out / f"{tag}_{mode}.png",
+                                                                      "--report", report])
+                reports[mode] = json.loads(report.read_text())
+            uncached, cached = (out / f"{tag}_{m}.exr" for m in ("uncached", "cached"))
+            run([build / "bin" / "vdb_image_compare", uncached, cached, "--side-by-side", out / f"{tag}_error.png",
+                 "--range", 0.05])
+            o = reports["cached"]["subsurface"]["objects"][0]
+            uncached_seconds = reports["uncached"]["seconds"]
+            cached_seconds = o["pass2_seconds"] + reports["cached"]["seconds"]
+            rows.append({"mesh": mesh, "material": material, "N": o["irradiance_samples"], "C": o["caches"],
+                         "H": o["hit_pixels"], "C_over_H": o["caches_per_hit_pixel"],
+                         "pass1_seconds": o["pass1_seconds"], "pass2_seconds": o["pass2_seconds"],
+                         "pass3_seconds": reports["cached"]["seconds"], "uncached_seconds": uncached_seconds,
+                         "speedup": uncached_seconds / cached_seconds, "uncached_lookups": o["uncached_lookups"],
+                         "image_rmse": compare(build, uncached, cached, []),
+                         "S_rmse_two_pass": compare(build, uncached, cached, ["--layer", "sss.S"]),
+                         "S_rmse_one_pass": compare(build, uncached, cached,
+                                                    ["--layer", "sss.S", "--test-layer", "sss.S1"])})
+            print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
 def three_quarter_view(build, out, spp):
     obj, cube = out / "cube.obj", out / "cube.vdb"
     camera = ["--camera-pos", "1.84,-2.51,1.238", "--camera-target", "0,0,0", "--res", 192,
@@ -113,8 +178,26 @@ def three_quarter_view(build, out, spp):
              out / f"view_{name}_dipole_error.png", "--range", 0.5])
 
 
-def report(out, rows, spp):
-    lines = ["# Translucent objects: the dipole against path tracing (make subsurface)", "",
+def report(out, cache_rows, rows, spp, res):
+    lines = ["# Translucent objects: the dipole with caching (make subsurface)", "",
+             "## 1. Cache against no cache (the seed's Table 4.1 setting)", "",
+             f"{res}x{res}, 1 spp, a sun and a sky of 0.1; Jensen et al. 2001's materials per mm, objects 40 mm",
+             "across. The cached render uses the default `--sss-error`; the uncached one `--sss-error 0`",
+             "(integration at every shading point). Speed-up: the uncached render's seconds over pass 2's",
+             "(one thread) plus the cached render's (pass 3). Relative RMSE over the object's pixels: of the",
+             "image, of S at the pixel centres (`--aov sss`), and of S as a one-pass scan gives it (§3.5).",
+             "Acceptance (issue 22): C/H <= 3%, image error <= 1%, speed-up >= 8x, two-pass below one-pass.", "",
+             "| mesh | material | N | C | H | C/H | pass 1 s | pass 2 s | pass 3 s | uncached s | speed-up | "
+             "image rel. RMSE | S two-pass | S one-pass | uncached lookups |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in cache_rows:
+        lines.append(f"| {r['mesh']} | {r['material']} | {r['N']} | {r['C']} | {r['H']} | {100 * r['C_over_H']:.2f}% | "
+                     f"{r['pass1_seconds']:.1f} | {r['pass2_seconds']:.2f} | {r['pass3_seconds']:.2f} | "
+                     f"{r['uncached_seconds']:.1f} | {r['speedup']:.1f}x | {100 * r['image_rmse']:.2f}% | "
+                     f"{100 * r['S_rmse_two_pass']:.2f}% | {100 * r['S_rmse_one_pass']:.2f}% | {r['uncached_lookups']} |")
+    lines += ["", "Uncached | cached | relative error (saturating at 5%):", ""]
+    lines += [f"![{r['mesh']} {r['material']}]({r['mesh']}_{r['material']}_error.png)" for r in cache_rows]
+    lines += ["", "## 2. Physical check: the dipole against path tracing", "",
              "The cube of `vdb_make_medium cube --density 100 --albedo 0.99` (isotropic phase), path traced by",
              f"vdb_render ({spp} spp), against the same cube as a translucent mesh (eta 1) rendered by the dipole,",
              "lit by a sun of irradiance 1 only. MS = full - (`--max-depth 1`). Windows of side 0.08 world units",
@@ -138,7 +221,8 @@ def report(out, rows, spp):
               "The same against all of the path tracer's scattering: full | dipole | relative error:", "",
               "![full, dipole](view_full_dipole_error.png)", ""]
     (out / "report.md").write_text("\n".join(lines))
-    (out / "report.json").write_text(json.dumps({"physical_check": rows}, indent=1))
+    (out / "report.json").write_text(json.dumps({"cache_against_integration": cache_rows, "physical_check": rows},
+                                                indent=1))
 
 
 def main():
@@ -146,14 +230,16 @@ def main():
     p.add_argument("--build", default="build")
     p.add_argument("--out", default="subsurface-out")
     p.add_argument("--spp", type=int, default=1024)
-    p.add_argument("--res", type=int, default=96)
+    p.add_argument("--res", type=int, default=96, help="the physical check's head-on views")
+    p.add_argument("--cache-res", type=int, default=1024, help="the cache against integration")
     args = p.parse_args()
     build, out = pathlib.Path(args.build), pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     ensure_blender()
+    cache_rows = cache_against_integration(build, out, args.cache_res)
     rows = physical_check(build, out, args.spp, args.res)
     three_quarter_view(build, out, args.spp)
-    report(out, rows, args.spp)
+    report(out, cache_rows, rows, args.spp, args.cache_res)
     print((out / "report.md").read_text())
 
 

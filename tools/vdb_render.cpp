@@ -8,6 +8,7 @@
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/render_output.h"
 #include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/subsurface/subsurface_passes.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/version.h"
 
@@ -43,7 +44,8 @@ struct Flags {
   std::vector<int> sh_light;
   std::vector<std::string> aovs, meshes, translucent_meshes;
   std::vector<double> sss_density, sss_albedo;
-  double fov = 30, time = 0, ground_height = 0, sss_g = 0, sss_eta = 1.3, sss_spacing = 0.5, sss_solid_angle = 0.1;
+  double fov = 30, time = 0, ground_height = 0, sss_g = 0, sss_eta = 1.3, sss_spacing = 0.5, sss_solid_angle = 0.1,
+         sss_error = 0.03;
   int spp = 16, max_depth = -1, sss_light_samples = 64;
   std::uint64_t seed = 0;
   bool ground = false, verbose = false, no_sggx = false, sh_unshadowed = false;
@@ -137,13 +139,15 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   if (app.count("--sss-spacing")) scene.subsurface.sample_spacing = f.sss_spacing;
   if (app.count("--sss-solid-angle")) scene.subsurface.max_solid_angle = f.sss_solid_angle;
   if (app.count("--sss-light-samples")) scene.subsurface.light_samples = f.sss_light_samples;
+  if (app.count("--sss-error")) scene.subsurface.cache_error = f.sss_error;
   for (const std::string& aov : f.aovs) {
     if (aov == "variance" || aov == "alpha") continue;
     if (aov == "dweights") {
       scene.render.weight_gradients = true;
       continue;
     }
-    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster or dweights");
+    if (aov == "sss") continue;
+    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster, dweights or sss");
     scene.render.cluster_coverage = true;
   }
   if (scene.medium.empty() && scene.meshes.empty() && !scene.ground)
@@ -193,6 +197,9 @@ void addFlags(CLI::App& app, Flags& f) {
   app.add_option("--sss-solid-angle", f.sss_solid_angle,
                  "hierarchical integration: solid angle below which a cluster of samples is one term (0.1; 0: every sample)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--sss-error", f.sss_error,
+                 "cache of subsurface illuminance: error bound a, relative to S (0.03); 0: no cache, every point integrated")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--sss-light-samples", f.sss_light_samples, "irradiance samples: light samples per point and area or sky light (64)")
       ->check(CLI::Range(1, 1 << 20));
   app.add_flag("--no-sggx", f.no_sggx, "ignore the SGGX grids (S = I: isotropic extinction and scattering), to compare "
@@ -209,7 +216,7 @@ void addFlags(CLI::App& app, Flags& f) {
       ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}));
   app.add_option("--aov", f.aovs,
                  "extra EXR channels: alpha, variance, cluster, dweights (gradient images of the lobe-weight factors; "
-                 "docs/rendering.md)")->delimiter(',');
+                 "docs/rendering.md), sss (translucent objects' caches, |grad S| and V; docs/subsurface.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
 }
@@ -247,6 +254,21 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
   return report;
 }
 
+// Table 4.1 of the translucent-caching seed per object: N, C, H, C/H and each pass's seconds (pass 3
+// is the render, shared by every object).
+nlohmann::json subsurfaceReport(const SceneDescription& scene, const SubsurfaceCaching& caching,
+                                const RenderScene& render_scene, const RenderResult& result) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (std::size_t i = 0; i < caching.objects.size(); ++i) {
+    const SubsurfaceObjectStats& s = caching.objects[i];
+    objects.push_back({{"irradiance_samples", s.irradiance_samples}, {"caches", s.caches}, {"hit_pixels", s.hit_pixels},
+                       {"caches_per_hit_pixel", s.hit_pixels ? double(s.caches) / double(s.hit_pixels) : 0.0},
+                       {"pass1_seconds", s.pass1_seconds}, {"pass2_seconds", s.pass2_seconds},
+                       {"uncached_lookups", render_scene.translucent[i]->uncachedLookups()}});
+  }
+  return {{"cache_error", scene.subsurface.cache_error}, {"pass3_seconds", result.seconds}, {"objects", objects}};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -266,7 +288,7 @@ int main(int argc, char** argv) {
     SceneDescription scene = sceneOf(app, flags);
     const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
     const RenderOutputs outputs{flags.output,      flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage,
-                                scene.render.weight_gradients};
+                                scene.render.weight_gradients, asked("sss")};
     checkRenderOutputs(outputs);
     tool::checkOutputs(scene.medium, flags.output, flags.report);
     tool::checkDistinct(scene.medium, flags.preview, flags.output);
@@ -291,10 +313,16 @@ int main(int argc, char** argv) {
       throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
     if (scene.render.weight_gradients && render_scene.sh_lights)
       throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
+    if (outputs.subsurface && render_scene.translucent.empty())
+      throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
+    const SubsurfaceCaching caching =
+        cacheTranslucentObjects(render_scene, camera, scene.render.width, scene.render.height, scene.subsurface, outputs.subsurface);
     ProgressBar progress("render", 0);
-    const RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
+    RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
+    if (outputs.subsurface) result.extra_channels = caching.channels;
     writeRenderOutputs(result, outputs);
     nlohmann::json report = reportOf(scene, pose, result, medium.get());
+    if (!render_scene.translucent.empty()) report["subsurface"] = subsurfaceReport(scene, caching, render_scene, result);
     if (render_scene.sh_lights)
       report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}, {"shadows", render_scene.sh_shadows}};
     if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);

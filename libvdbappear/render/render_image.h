@@ -6,6 +6,8 @@
 #include "libvdbappear/render/volume_path_tracer.h"
 
 #include <cstdint>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace vdbappear {
@@ -38,6 +40,9 @@ struct RenderResult {
   // to a relative change of the weights of lobe slot j in cluster k (W -> W (1 + e)).
   int gradient_clusters = 0, gradient_lobes = 0;
   std::vector<float> weight_gradients;
+  // Further named channels, one value per pixel, written after the others (the subsurface AOVs,
+  // subsurface/subsurface_passes.h).
+  std::vector<std::pair<std::string, std::vector<float>>> extra_channels;
   double seconds = 0;
   std::uint64_t paths = 0, scattering_events = 0;
   TrackingStats tracking;

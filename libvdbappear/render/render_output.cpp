@@ -23,6 +23,7 @@ ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& ao
       for (const char* c : {"R", "G", "B"}) image.names.push_back(fmt::format("dw.k{}.j{}.{}", k, j, c));
     for (const char* c : {"R", "G", "B"}) image.names.push_back(fmt::format("ds.k{}.{}", k, c));
   }
+  for (const auto& [name, values] : result.extra_channels) image.names.push_back(name);
   const std::size_t n = image.names.size(), pixels = std::size_t(result.width) * result.height;
   image.values.resize(pixels * n);
   for (std::size_t i = 0; i < pixels; ++i) {
@@ -41,6 +42,7 @@ ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& ao
         *out++ = float(ds);
       }
     }
+    for (const auto& extra : result.extra_channels) *out++ = extra.second[i];
   }
   return image;
 }
@@ -52,7 +54,7 @@ RgbImage renderRgb(const RenderResult& result) {
 }
 
 void checkRenderOutputs(const RenderOutputs& outputs) {
-  const bool aovs = outputs.alpha || outputs.variance || outputs.clusters || outputs.weight_gradients;
+  const bool aovs = outputs.alpha || outputs.variance || outputs.clusters || outputs.weight_gradients || outputs.subsurface;
   if (aovs && imageFormat(outputs.image) != "exr")
     throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
   if (!outputs.preview.empty()) imageFormat(outputs.preview);

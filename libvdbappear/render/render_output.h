@@ -12,6 +12,8 @@
 // respect to a factor w on the weights of lobe slot J in cluster K, at w = 1 (Eq. 23), and
 // "ds.kK.R/G/B", with respect to a colour scale s_K of that channel at s = 1 (Eq. 19): the sum over
 // J of dw.kK.jJ, since I^c depends on s^c and w_kj only through their products.
+// Then RenderResult::extra_channels by name: the subsurface AOVs "sss.cache", "sss.gradS.R/G/B",
+// "sss.V.R/G/B" (subsurface/subsurface_passes.h).
 
 #include "libvdbappear/image/image_file.h"
 #include "libvdbappear/render/render_image.h"
@@ -27,6 +29,7 @@ struct RenderOutputs {
   bool variance = false;
   bool clusters = false;
   bool weight_gradients = false;
+  bool subsurface = false;  // RenderResult::extra_channels hold the subsurface AOVs (checked here only)
 };
 
 ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs);

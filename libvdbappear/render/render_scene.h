@@ -23,7 +23,7 @@ struct RenderScene {
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   // Closed meshes whose light leaves by the dipole (subsurface/); SurfaceHit::translucent indexes this.
-  std::vector<std::shared_ptr<const TranslucentObject>> translucent;
+  std::vector<std::shared_ptr<TranslucentObject>> translucent;  // read-only while rendering
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)
   // Optional: the area lights' direct light from an SH light grid (dissertation ch. 5) at vertices
   // inside its box, instead of next-event estimation of every area light; outside the box the lights

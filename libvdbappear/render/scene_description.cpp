@@ -12,6 +12,7 @@
 
 #include <Eigen/Geometry>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -127,7 +128,9 @@ TranslucentMaterial translucentOf(const json& t, const std::string& source, cons
 }
 
 void applySubsurface(const json& settings, const std::string& source, SubsurfaceSettings* subsurface) {
-  checkKeys(settings, {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples"}, source, "subsurface");
+  checkKeys(settings, {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples", "cache_error",
+                       "min_cache_radius", "max_cache_radius", "min_normal_cos"},
+            source, "subsurface");
   const auto positive = [&](const char* key, double* value) {
     if (!settings.contains(key)) return;
     *value = numberOf<double>(settings[key], source, std::string("subsurface.") + key);
@@ -135,6 +138,18 @@ void applySubsurface(const json& settings, const std::string& source, Subsurface
   };
   positive("sample_spacing", &subsurface->sample_spacing);
   positive("disk_radius", &subsurface->disk_radius);
+  positive("min_cache_radius", &subsurface->min_cache_radius);
+  positive("max_cache_radius", &subsurface->max_cache_radius);
+  if (subsurface->max_cache_radius < subsurface->min_cache_radius)
+    fail(source, "subsurface.max_cache_radius", "must be >= min_cache_radius");
+  if (settings.contains("cache_error")) {
+    subsurface->cache_error = numberOf<double>(settings["cache_error"], source, "subsurface.cache_error");
+    if (!(subsurface->cache_error >= 0)) fail(source, "subsurface.cache_error", "must be >= 0 (0: no cache)");
+  }
+  if (settings.contains("min_normal_cos")) {
+    subsurface->min_normal_cos = numberOf<double>(settings["min_normal_cos"], source, "subsurface.min_normal_cos");
+    if (!(std::abs(subsurface->min_normal_cos) <= 1)) fail(source, "subsurface.min_normal_cos", "must lie in [-1, 1]");
+  }
   if (settings.contains("max_solid_angle")) {
     subsurface->max_solid_angle = numberOf<double>(settings["max_solid_angle"], source, "subsurface.max_solid_angle");
     if (!(subsurface->max_solid_angle >= 0)) fail(source, "subsurface.max_solid_angle", "must be >= 0");
@@ -289,15 +304,24 @@ std::vector<Triangle> groundPlane(double height, const Aabb& around) {
 
 // Pass 1 of a translucent object: irradiance samples at the centroids of its faces, split to the
 // sample spacing, lit by the scene built so far (docs/subsurface.md §2).
-std::shared_ptr<const TranslucentObject> translucentObject(const TranslucentMaterial& material,
-                                                           const std::vector<Triangle>& triangles,
-                                                           const SceneDescription& description, const RenderScene& scene) {
+std::shared_ptr<TranslucentObject> translucentObject(const std::string& file, const TranslucentMaterial& material,
+                                                     const std::vector<Triangle>& triangles,
+                                                     const SceneDescription& description, const RenderScene& scene) {
+  const auto start = std::chrono::steady_clock::now();
   const SubsurfaceSettings& settings = description.subsurface;
   const double spacing = settings.sample_spacing * RgbDipole(material).shortestDiffusionLength();
-  const std::vector<SurfacePoint> points = surfacePoints(triangles, spacing);
+  std::vector<SurfacePoint> points;
+  try {
+    points = surfacePoints(triangles, spacing);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: {} (--sss-spacing {} diffusion lengths = {:.3g} world units)", file, e.what(),
+                                         settings.sample_spacing, spacing));
+  }
   std::vector<IrradianceSample> samples =
       directIrradiance(points, material.eta, scene, settings.light_samples, description.render.seed);
-  return std::make_shared<const TranslucentObject>(material, std::move(samples), settings);
+  auto object = std::make_shared<TranslucentObject>(material, std::move(samples), settings);
+  object->setPass1Seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return object;
 }
 
 }  // namespace
@@ -343,7 +367,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
   if (scene.surfaces->empty()) scene.surfaces.reset();
   scene.ray_epsilon = 1e-5 * std::max(1.0, everything.empty() ? 1.0 : everything.extent().norm());
   for (const auto& [mesh, triangles] : translucent)
-    scene.translucent.push_back(translucentObject(*mesh->translucent, triangles, description, scene));
+    scene.translucent.push_back(translucentObject(mesh->file, *mesh->translucent, triangles, description, scene));
   return scene;
 }
 

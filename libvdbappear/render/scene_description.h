@@ -50,7 +50,8 @@ struct SceneDescription {
   nlohmann::json lights = nlohmann::json::array();
   std::optional<GroundDescription> ground;
   std::vector<MeshDescription> meshes;
-  // "subsurface": {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples"}.
+  // "subsurface": {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples", "cache_error",
+  // "min_cache_radius", "max_cache_radius", "min_normal_cos"} (docs/subsurface.md §1).
   SubsurfaceSettings subsurface;
 };
 

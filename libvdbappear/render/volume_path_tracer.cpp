@@ -204,7 +204,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const TranslucentObject& object = *scene_.translucent[std::size_t(hit->translucent)];
       const double cos_theta = hit->normal.dot(-ray.d);
       if (cos_theta <= 0) break;  // reached from inside: the interior is the dipole's
-      const Rgb Lo = object.radiance(ray(hit->t), cos_theta);
+      const Rgb Lo = object.radiance(ray(hit->t), hit->normal, cos_theta);
       result.L += beta * Lo;
       if (gradients) gradients->addLight(Lo);
       const double F = object.specularReflectance(cos_theta);

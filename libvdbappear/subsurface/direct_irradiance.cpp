@@ -44,7 +44,8 @@ std::vector<IrradianceSample> directIrradiance(const std::vector<SurfacePoint>& 
     if (scene.medium && !lookup) lookup = scene.medium->lookup();
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       RandomStream rng(seed, {kPassOneStream, std::int64_t(i)});
-      samples[i] = {points[i].p, points[i].area, irradianceAt(points[i], eta, scene, light_samples, rng, lookup.get())};
+      samples[i] = {points[i].p, points[i].area, irradianceAt(points[i], eta, scene, light_samples, rng, lookup.get()),
+                    points[i].face};
     }
   });
   return samples;

@@ -2,6 +2,8 @@
 
 #include "libvdbappear/subsurface/dipole.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -79,6 +81,7 @@ struct Accumulator {
   const RgbDipole& dipole;
   Vec3 p;
   double disk_radius2;
+  double shortest_z_r;  // the profile's near-field scale
   SubsurfaceEstimate estimate;
   double disk_A = 0;
   Rgb disk_Phi = Rgb::Zero(), disk_M = Rgb::Zero();
@@ -86,6 +89,11 @@ struct Accumulator {
   // A term of N at P with area A, flux Phi and M: S(p) += R_d(|p - P|) Phi,
   // grad S(p) += grad R_s(p - P) Phi (the convolution of Eq. 3.5 puts p - P_i in the argument).
   void add(const Vec3& P, double A, const Rgb& Phi, const Rgb& M) {
+    addFlux(P, Phi);
+    addToDisk(P, A, Phi, M);
+    ++estimate.terms;
+  }
+  void addFlux(const Vec3& P, const Rgb& Phi) {
     const Vec3 x = p - P;
     const double r = x.norm();
     for (int c = 0; c < 3; ++c) {
@@ -93,12 +101,39 @@ struct Accumulator {
       estimate.S[c] += profile.Rd(r) * Phi[c];
       estimate.gradS[c] += profile.gradRs(x) * Phi[c];
     }
-    if (r * r <= disk_radius2) {
+  }
+  void addToDisk(const Vec3& P, double A, const Rgb& Phi, const Rgb& M) {
+    if ((p - P).squaredNorm() <= disk_radius2) {
       disk_A += A;
       disk_Phi += Phi;
       disk_M += M;
     }
+  }
+  // A sample of N: a point term, or near p its face with E^ constant over it, integrated by
+  // midpoint rule on sub-triangles no larger than 0.3 max(z_r, distance) (docs/subsurface.md §4:
+  // summed as points, the nearest centroids would make S and, far more, grad S lumpy at the scale
+  // of the faces).
+  void add(const IrradianceSample& s) {
+    const Rgb Phi = s.E * s.area, M = s.E * s.E * s.area;
+    const double edge = std::max({(s.face[1] - s.face[0]).norm(), (s.face[2] - s.face[1]).norm(),
+                                  (s.face[0] - s.face[2]).norm()});
+    if (edge > 0 && (p - s.p).norm() < 4 * edge) integrateFace(s.face, s.E, 0);
+    else addFlux(s.p, Phi);
+    addToDisk(s.p, s.area, Phi, M);
     ++estimate.terms;
+  }
+  void integrateFace(const std::array<Vec3, 3>& t, const Rgb& E, int depth) {
+    const Vec3 centre = (t[0] + t[1] + t[2]) / 3;
+    const double edge = std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()});
+    if (depth >= 6 || edge <= 0.3 * std::max(shortest_z_r, (p - centre).norm())) {
+      addFlux(centre, E * (0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm()));
+      return;
+    }
+    const Vec3 a = 0.5 * (t[0] + t[1]), b = 0.5 * (t[1] + t[2]), c = 0.5 * (t[2] + t[0]);
+    integrateFace({t[0], a, c}, E, depth + 1);
+    integrateFace({a, t[1], b}, E, depth + 1);
+    integrateFace({c, b, t[2]}, E, depth + 1);
+    integrateFace({a, b, c}, E, depth + 1);
   }
 };
 
@@ -111,17 +146,16 @@ bool inside(const Vec3& p, const Vec3& lo, const Vec3& hi) {
 // Traverse_octree (§3.4): a leaf gives its samples; a node holding p, or seen under a solid angle
 // A / |p - P|^2 above m, is opened; any other node is one term at its mean position P.
 SubsurfaceEstimate IrradianceOctree::evaluate(const Vec3& p, const RgbDipole& dipole, const HierarchySettings& settings) const {
-  Accumulator sum{dipole, p, settings.disk_radius * settings.disk_radius, {}};
+  double shortest_z_r = dipole.channel[0].zr();
+  for (const DipoleProfile& profile : dipole.channel) shortest_z_r = std::min(shortest_z_r, profile.zr());
+  Accumulator sum{dipole, p, settings.disk_radius * settings.disk_radius, shortest_z_r, {}};
   if (nodes_.empty()) return sum.estimate;
   std::vector<int> stack{0};
   while (!stack.empty()) {
     const Node& node = nodes_[std::size_t(stack.back())];
     stack.pop_back();
     if (node.leaf) {
-      for (std::size_t k = node.begin; k < node.end; ++k) {
-        const IrradianceSample& s = samples_[k];
-        sum.add(s.p, s.area, s.E * s.area, s.E * s.E * s.area);
-      }
+      for (std::size_t k = node.begin; k < node.end; ++k) sum.add(samples_[k]);
     } else if (inside(p, node.lo, node.hi) || node.A > settings.max_solid_angle * (p - node.P).squaredNorm()) {
       for (int child : node.child)
         if (child >= 0) stack.push_back(child);

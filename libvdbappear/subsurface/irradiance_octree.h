@@ -16,11 +16,13 @@ namespace vdbappear {
 class RgbDipole;
 
 // One irradiance sample of pass 1: a face centroid, its face's area and the Fresnel-transmitted
-// irradiance E^ there (docs/subsurface.md §2).
+// irradiance E^ there (docs/subsurface.md §2), and the face itself, over which the sum integrates
+// where the point is near it (a zero face: a point sample).
 struct IrradianceSample {
   Vec3 p = Vec3::Zero();
   double area = 0;
   Rgb E = Rgb::Zero();
+  std::array<Vec3, 3> face{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
 };
 
 // What pass 2 computes at a point: S, one gradient per channel, and V, the standard deviation of

@@ -23,7 +23,7 @@ void split(const Triangle& t, double max_edge2, std::vector<SurfacePoint>* out) 
   if (longest2 <= max_edge2) {
     const Vec3 cross = (t[1] - t[0]).cross(t[2] - t[0]);
     const double norm = cross.norm();
-    if (norm > 0) out->push_back({(t[0] + t[1] + t[2]) / 3, cross / norm, 0.5 * norm});
+    if (norm > 0) out->push_back({(t[0] + t[1] + t[2]) / 3, cross / norm, 0.5 * norm, t});
     if (out->size() > kMostPoints)
       throw std::invalid_argument("more than 20 M irradiance samples: the sample spacing is too small for this mesh");
     return;

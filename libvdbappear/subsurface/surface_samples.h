@@ -13,6 +13,7 @@ struct SurfacePoint {
   Vec3 p;       // centroid
   Vec3 normal;  // unit, counter-clockwise (outward on outwardClosedMesh's triangles)
   double area = 0;
+  Triangle face;  // the piece itself
 };
 
 // Each triangle halved across its longest edge until every edge is at most max_edge, then one

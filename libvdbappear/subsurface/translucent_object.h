@@ -1,13 +1,18 @@
 #pragma once
 // A translucent object as the renderer sees it (docs/subsurface.md): a closed mesh whose light
 // leaves by the dipole, L = F_t(eta, w) / F_dt(eta) S(p) / pi (§2.3 of the translucent-caching
-// seed), with S from the hierarchical integration of pass 1's irradiance samples, and a smooth
+// seed), with S interpolated from pass 2's caches (pass 3, Eq. 3.9) or, where none is valid or no
+// cache was made, from the hierarchical integration of pass 1's irradiance samples; and a smooth
 // dielectric boundary that reflects F_r(eta, w) specularly.
 
 #include "libvdbappear/subsurface/dipole.h"
+#include "libvdbappear/subsurface/illuminance_cache.h"
 #include "libvdbappear/subsurface/irradiance_octree.h"
 #include "libvdbappear/subsurface/translucent_material.h"
 
+#include <atomic>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace vdbappear {
@@ -18,6 +23,11 @@ struct SubsurfaceSettings {
   double max_solid_angle = 0.1;  // m of the hierarchy (HierarchySettings)
   double disk_radius = 1;        // R of the split-disk model
   int light_samples = 64;        // per irradiance sample and light, for lights that are not delta
+  // The cache (pass 2): the seed's error bound a, relative to S here (cacheRadius); 0: no cache.
+  double cache_error = 0.03;
+  double min_cache_radius = 0.1;  // clamps of the validity radius r_k
+  double max_cache_radius = 2;
+  double min_normal_cos = 0.9;    // a cache serves points whose normal is within 26 degrees of its own
 };
 
 class TranslucentObject {
@@ -27,9 +37,20 @@ class TranslucentObject {
 
   // S, grad S and V at p (hierarchical integration, uncached).
   SubsurfaceEstimate estimate(const Vec3& p) const { return octree_.evaluate(p, dipole_, hierarchy_); }
-  // Radiance leaving the surface at p toward w, cos_theta = n . w > 0.
-  Rgb radiance(const Vec3& p, double cos_theta) const;
+  // S at p with outward normal n: from the cache where one is valid, else by estimate (counted).
+  Rgb illuminance(const Vec3& p, const Vec3& n) const;
+  // Radiance leaving the surface at p (outward normal n) toward w, cos_theta = n . w > 0.
+  Rgb radiance(const Vec3& p, const Vec3& n, double cos_theta) const;
   double specularReflectance(double cos_theta) const;
+
+  // Pass 2's caches; before any render (the object is read-only while rendering).
+  void setCache(std::shared_ptr<const IlluminanceCache> cache) { cache_ = std::move(cache); }
+  const IlluminanceCache* cache() const { return cache_.get(); }
+  // Shading points that found no valid cache and were integrated instead, since construction.
+  std::uint64_t uncachedLookups() const { return uncached_lookups_.load(std::memory_order_relaxed); }
+  // Pass 1's time (irradiance samples), as measured by whoever ran it.
+  void setPass1Seconds(double seconds) { pass1_seconds_ = seconds; }
+  double pass1Seconds() const { return pass1_seconds_; }
 
   const TranslucentMaterial& material() const { return material_; }
   const RgbDipole& dipole() const { return dipole_; }
@@ -41,6 +62,9 @@ class TranslucentObject {
   HierarchySettings hierarchy_;
   IrradianceOctree octree_;
   double F_dt_;
+  std::shared_ptr<const IlluminanceCache> cache_;
+  mutable std::atomic<std::uint64_t> uncached_lookups_{0};
+  double pass1_seconds_ = 0;
 };
 
 }  // namespace vdbappear

@@ -10,11 +10,13 @@
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 
 namespace vdbappear {
 namespace {
@@ -100,6 +102,77 @@ TEST(SubsurfaceCli, PathTracedCubeMatchesChandrasekharsHalfSpace) {
   EXPECT_NEAR(centreMean(full), L_total, 0.03 * L_total);
 }
 
+// A sphere of radius 1 as a cube-sphere: six n x n grids projected on it, shared vertices.
+void writeSphereObj(const std::string& path, int n) {
+  std::ofstream obj(path);
+  std::map<std::array<long, 3>, int> index;
+  int count = 0;
+  const auto vertex = [&](Vec3 p) {
+    const std::array<long, 3> key{std::lround(p.x() * 1e6), std::lround(p.y() * 1e6), std::lround(p.z() * 1e6)};
+    const auto found = index.find(key);
+    if (found != index.end()) return found->second;
+    p.normalize();
+    obj << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+    return index[key] = ++count;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign : {1, -1}) {
+      int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      if (sign < 0) std::swap(u, v);
+      const auto corner = [&](int i, int j) {
+        Vec3 p;
+        p[axis] = sign;
+        p[u] = -1 + 2.0 * i / n;
+        p[v] = -1 + 2.0 * j / n;
+        return vertex(p);
+      };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const int a = corner(i, j), b = corner(i + 1, j), c = corner(i + 1, j + 1), d = corner(i, j + 1);
+          obj << "f " << a << " " << b << " " << c << "\nf " << a << " " << c << " " << d << "\n";
+        }
+    }
+}
+
+double relativeRmse(const std::string& reference, const std::string& test, const std::string& test_layer) {
+  const auto r = runCommand(quote(VDB_IMAGE_COMPARE) + " " + quote(reference) + " " + quote(test) +
+                            " --layer sss.S --test-layer " + test_layer + " --mask " + quote(reference + ":sss.hit") +
+                            " --report -");
+  EXPECT_EQ(r.status, 0) << r.err;
+  return nlohmann::json::parse(r.out)["relative_rmse"].get<double>();
+}
+
+// Passes 2 and 3 against integration at every pixel (--sss-error 0), on S at the pixel centres
+// (--aov sss): few caches, a small error, and the two-pass image better than the one-pass one (the
+// seed's §3.5). A sphere of 1/sigma_tr = 0.41 of its radius under a sun, at 128x128: caches are
+// resolution-free, so here they are 12% of the hit pixels and the error 0.8% (measured); at
+// 1024x1024 on the meshes of `make subsurface` they are under 1% (docs/subsurface.md §6).
+TEST(SubsurfaceCli, CachesServeMostPixelsWithASmallError) {
+  const TempDir dir;
+  const std::string obj = dir.path("sphere.obj"), cached = dir.path("cached.exr"), uncached = dir.path("uncached.exr");
+  const std::string report = dir.path("report.json");
+  writeSphereObj(obj, 64);
+  const std::string args = kRender + " --translucent-mesh " + quote(obj) +
+                           " --sss-density 20 --sss-albedo 0.995 --sss-eta 1.3 --sun -0.4,0.5,-0.77,3 --res 128 --spp 1"
+                           " --camera-pos 0,-4,1.5 --camera-target 0,0,0 --aov sss";
+  ASSERT_EQ(runCommand(args + " --sss-error 0 -o " + quote(uncached)).status, 0);
+  ASSERT_EQ(runCommand(args + " -o " + quote(cached) + " --report " + quote(report)).status, 0);
+  const nlohmann::json stats = nlohmann::json::parse(std::ifstream(report))["subsurface"]["objects"][0];
+  const double caches = stats["caches"], hits = stats["hit_pixels"];
+  EXPECT_GT(hits, 10000);
+  EXPECT_LT(caches / hits, 0.2);
+  const ImageChannels channels = readImageChannels(cached);
+  const int marker = channels.find("sss.cache");
+  ASSERT_GE(marker, 0);
+  double marked = 0;
+  for (std::size_t i = 0; i < std::size_t(channels.width) * channels.height; ++i)
+    marked += channels.values[i * channels.names.size() + std::size_t(marker)];
+  EXPECT_EQ(marked, caches);
+  const double two_pass = relativeRmse(uncached, cached, "sss.S"), one_pass = relativeRmse(uncached, cached, "sss.S1");
+  EXPECT_LT(two_pass, 0.015);
+  EXPECT_GT(one_pass, two_pass);
+}
+
 std::string bytesOf(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -142,6 +215,8 @@ TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {
       {"negative density in a scene", "--scene " + quote(scene), "scene.json: meshes[0].translucent: density (sigma_t) -3"},
       {"unknown key in a scene", "--scene " + quote(typo), "typo.json: meshes[0].translucent.densty: unknown key"},
       {"missing mesh", "--translucent-mesh " + quote(dir.path("none.obj")), "none.obj", true},
+      {"negative cache error", "--translucent-mesh " + quote(cube) + " --sss-error -1", "--sss-error", true},
+      {"sss AOV without a translucent mesh", "--mesh " + quote(cube) + " --aov sss", "--aov sss needs a translucent mesh"},
   };
   for (const BadInput& c : cases) {
     const auto r = runCommand(kRender + " " + c.args + camera + " -o " + quote(out));

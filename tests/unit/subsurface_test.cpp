@@ -3,18 +3,22 @@
 // differences, the hierarchy against the brute-force sum, the split-disk variance on a split plane,
 // and the closed-mesh checks.
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/subsurface/cache_generation.h"
 #include "libvdbappear/subsurface/closed_mesh.h"
 #include "libvdbappear/subsurface/dipole.h"
 #include "libvdbappear/subsurface/fresnel.h"
+#include "libvdbappear/subsurface/illuminance_cache.h"
 #include "libvdbappear/subsurface/irradiance_octree.h"
 #include "libvdbappear/subsurface/surface_samples.h"
 #include "libvdbappear/subsurface/translucent_material.h"
+#include "libvdbappear/subsurface/translucent_object.h"
 
 #include "support/test_random.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace vdbappear {
@@ -168,6 +172,48 @@ TEST(IrradianceOctree, GradientOfSMatchesCentralDifferences) {
   }
 }
 
+// A uniformly lit plane cut into faces of 1.5 z_r: S anywhere inside is E times the closed-form
+// total diffuse reflectance, and the tangential grad S vanishes. Faces near the point are
+// integrated (docs/subsurface.md §4); the negative control sums the same faces as points, which
+// leaves the tangential gradient lumpy at the faces' scale.
+TEST(IrradianceOctree, NearFacesAreIntegratedSoAUniformPlaneGivesTheClosedForm) {
+  TranslucentMaterial m;
+  m.sigma_t = Rgb::Constant(100);
+  m.albedo = Rgb::Constant(0.99);
+  m.eta = 1;
+  const RgbDipole dipole(m);
+  const DipoleProfile& profile = dipole.channel[0];
+  const double h = 1.5 * profile.zr(), size = 20 / profile.sigmaTr();
+  const int n = int(size / h);
+  std::vector<IrradianceSample> faces, points;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vec3 a(i * h - size / 2, j * h - size / 2, 0), b = a + Vec3(h, 0, 0), c = a + Vec3(h, h, 0), d = a + Vec3(0, h, 0);
+      for (const std::array<Vec3, 3>& t : {std::array<Vec3, 3>{a, b, c}, std::array<Vec3, 3>{a, c, d}}) {
+        const IrradianceSample s{(t[0] + t[1] + t[2]) / 3, 0.5 * h * h, Rgb::Ones(), t};
+        faces.push_back(s);
+        points.push_back({s.p, s.area, s.E});
+      }
+    }
+  const IrradianceOctree integrated(faces), summed(points);
+  HierarchySettings settings;
+  double worst_integrated = 0, worst_summed = 0;
+  test::TestRandom random(13);
+  for (int k = 0; k < 20; ++k) {
+    const Vec3 p((random.uniform() - 0.5) * h * 8, (random.uniform() - 0.5) * h * 8, 0);
+    const SubsurfaceEstimate e = integrated.evaluate(p, dipole, settings), control = summed.evaluate(p, dipole, settings);
+    EXPECT_NEAR(e.S[0], profile.totalDiffuseReflectance(), 0.005 * profile.totalDiffuseReflectance());
+    // |tangential grad S| over a diffusion length, relative to S
+    const auto tangential = [&](const SubsurfaceEstimate& x) {
+      return std::hypot(x.gradS[0].x(), x.gradS[0].y()) / profile.sigmaTr() / x.S[0];
+    };
+    worst_integrated = std::max(worst_integrated, tangential(e));
+    worst_summed = std::max(worst_summed, tangential(control));
+  }
+  EXPECT_LT(worst_integrated, 0.01);
+  EXPECT_GT(worst_summed, 0.1);
+}
+
 TEST(IrradianceOctree, RootKeepsTheSumsOfEquationsThreeElevenToThirteen) {
   test::TestRandom random(9);
   const std::vector<IrradianceSample> samples = wavySheet(40, 1.0, random);
@@ -293,6 +339,110 @@ TEST(TranslucentMaterial, BadValuesNameTheProblem) {
   m = marble();
   m.sigma_t = Rgb::Zero();
   EXPECT_NE(message(m).find("neither absorbs nor scatters"), std::string::npos);
+}
+
+// FindAnyValidCache and FindAllValidCache against a linear scan: caches of radii over two decades
+// (so they rest at many octree levels) and queries near and between them. The seed's early return
+// in FindAnyValidCache would answer "no" here whenever the first shell holding x held no valid cache.
+TEST(IlluminanceCache, LookupsMatchALinearScan) {
+  test::TestRandom random(11);
+  IlluminanceCache cache(Vec3(-1, -1, -1), Vec3(1, 1, 1), 0.5);
+  std::vector<IlluminanceCacheEntry> entries;
+  for (int k = 0; k < 400; ++k) {
+    IlluminanceCacheEntry e;
+    e.p = Vec3(2 * random.uniform() - 1, 2 * random.uniform() - 1, 2 * random.uniform() - 1);
+    e.normal = random.direction();
+    e.radius = 0.003 * std::pow(100.0, random.uniform());
+    cache.insert(e);
+    entries.push_back(e);
+  }
+  int valid_queries = 0;
+  for (int q = 0; q < 4000; ++q) {
+    const Vec3 x = entries[std::size_t(q) % entries.size()].p + 0.3 * random.direction() * random.uniform();
+    const Vec3 n = random.direction();
+    std::vector<std::size_t> expected;
+    for (std::size_t k = 0; k < entries.size(); ++k)
+      if ((x - entries[k].p).norm() < entries[k].radius && entries[k].normal.dot(n) >= 0.5) expected.push_back(k);
+    std::vector<std::size_t> found;
+    cache.allValid(x, n, &found);
+    std::sort(found.begin(), found.end());
+    EXPECT_EQ(found, expected) << q;
+    EXPECT_EQ(cache.anyValid(x, n), !expected.empty()) << q;
+    valid_queries += !expected.empty();
+  }
+  EXPECT_GT(valid_queries, 400);  // the queries exercise both answers
+  EXPECT_LT(valid_queries, 3600);
+}
+
+// Eq. (3.9) with exact gradients reproduces an S that is linear along a plane anywhere the caches
+// serve, whatever the weights and whatever the gradient's normal part (S falls off the surface; only
+// the tangential part predicts changes along it).
+TEST(IlluminanceCache, GradientCorrectedInterpolationIsExactForLinearIlluminance) {
+  const Vec3 slope(0.3, -0.2, 0.7);
+  const auto S = [&](const Vec3& x) { return 2 + slope.dot(x); };
+  IlluminanceCache cache(Vec3(-1, -1, -1), Vec3(1, 1, 1), 0.0);
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(0.2, 0.1, 0), Vec3(-0.1, 0.25, 0)}) {
+    IlluminanceCacheEntry e;
+    e.p = p;
+    e.S = Rgb::Constant(S(p));
+    e.gradS = {slope, slope, slope};
+    e.radius = 0.5;
+    cache.insert(e);
+  }
+  for (const Vec3& x : {Vec3(0.05, 0.05, 0), Vec3(-0.2, 0.3, 0), Vec3(0.2, 0.1, 0)}) {
+    const auto at = cache.interpolate(x, Vec3::UnitZ());
+    ASSERT_TRUE(at);
+    EXPECT_EQ(at->caches, 3u);
+    EXPECT_NEAR(at->S[0], S(x), 1e-12);
+    EXPECT_NEAR(at->gradS[0].z(), 0.0, 1e-12);  // the tangential part
+  }
+  EXPECT_FALSE(cache.interpolate(Vec3(0.9, 0.9, 0.9), Vec3::UnitZ()));
+}
+
+// The validity radius of Eq. (3.10) with a relative to S: scaling the lights (S and V alike) leaves
+// it unchanged; no variance gives the largest radius, and a large one the smallest.
+TEST(CacheGeneration, RadiusFromTheSplitDiskIsRelativeAndClamped) {
+  const TranslucentMaterial m = marble();
+  const RgbDipole dipole(m);
+  SubsurfaceSettings settings;
+  SubsurfaceEstimate e;
+  e.S = Rgb(0.5, 0.6, 0.7);
+  e.V = Rgb(0.02, 0.03, 0.04);
+  const double r = cacheRadius(e, dipole, settings);
+  SubsurfaceEstimate brighter = e;
+  brighter.S *= 10;
+  brighter.V *= 10;
+  EXPECT_NEAR(cacheRadius(brighter, dipole, settings), r, 1e-12 * r);
+  const double length = dipole.shortestDiffusionLength();
+  EXPECT_GT(r, settings.min_cache_radius * length);
+  EXPECT_LT(r, settings.max_cache_radius * length);
+  double expected = 1e300;
+  for (int c = 0; c < 3; ++c)
+    expected = std::min(expected, settings.cache_error * e.S[c] /
+                                      (e.V[c] * dipole.channel[c].splitDiskSlope(settings.disk_radius * length)));
+  EXPECT_NEAR(r, expected, 1e-12 * expected);
+  SubsurfaceEstimate flat = e;
+  flat.V = Rgb::Zero();
+  EXPECT_DOUBLE_EQ(cacheRadius(flat, dipole, settings), settings.max_cache_radius * length);
+  SubsurfaceEstimate edge = e;
+  edge.V = Rgb::Constant(1e6);
+  EXPECT_DOUBLE_EQ(cacheRadius(edge, dipole, settings), settings.min_cache_radius * length);
+}
+
+// The split disk's slope (Eq. 3.10) is the limit of its derivation: V 2 alpha' / (pi R) times the
+// bracket, checked here against the difference quotient of 4 Delta S_A over a small Delta u.
+TEST(Dipole, SplitDiskSlopeIsTheLimitOfItsSectorIntegral) {
+  const DipoleProfile& p = RgbDipole(marble()).channel[0];
+  const double R = 1 / p.sigmaTr(), du = 1e-6 * R;
+  // 4 Delta S_A / Delta u with E = 2V = 2 (V = 1): 8 theta_R int_0^R R_d(r) r dr, theta_R = asin(du / R).
+  double integral = 0;
+  const int steps = 200000;
+  for (int i = 0; i < steps; ++i) {
+    const double r = (i + 0.5) * R / steps;
+    integral += p.Rd(r) * r * R / steps;
+  }
+  const double quotient = 8 * std::asin(du / R) * integral / du;
+  EXPECT_NEAR(p.splitDiskSlope(R), quotient, 1e-6 * quotient);
 }
 
 }  // namespace

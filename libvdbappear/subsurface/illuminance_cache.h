@@ -1,0 +1,70 @@
+#pragma once
+// The seed's cache of subsurface illuminance (§3.3-3.4 of the translucent-caching seed): caches of
+// S, grad S and V at surface points, each valid within a radius r_k, kept in an octree where a
+// cache lives in a node of side 2 r_k to 4 r_k (StoredCaches, Fig. 3.4), found through the nodes'
+// shells (Fig. 3.5), and interpolated with gradients (Eq. 3.9).
+
+#include "libvdbappear/math/rgb.h"
+#include "libvdbappear/math/vector.h"
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+namespace vdbappear {
+
+struct IlluminanceCacheEntry {
+  Vec3 p = Vec3::Zero(), normal = Vec3::UnitZ();
+  Rgb S = Rgb::Zero();
+  std::array<Vec3, 3> gradS{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  Rgb V = Rgb::Zero();
+  double radius = 0;  // r_k: the cache serves points closer than this
+};
+
+// What Eq. (3.9) gives at a point: S, and the weighted means of the caches' grad S and V (the AOVs).
+struct InterpolatedIlluminance {
+  Rgb S = Rgb::Zero();
+  std::array<Vec3, 3> gradS{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  Rgb V = Rgb::Zero();
+  std::size_t caches = 0;  // |C|
+};
+
+class IlluminanceCache {
+ public:
+  // A cube around [lo, hi] is the root; min_normal_cos: a cache serves a point only where their
+  // normals agree this well (docs/subsurface.md §5: against leaks across thin parts, a deviation).
+  IlluminanceCache(const Vec3& lo, const Vec3& hi, double min_normal_cos);
+
+  // StoredCaches: down to the node whose side is no more than 4 r_k (split on demand).
+  void insert(const IlluminanceCacheEntry& entry);
+  // FindAnyValidCache and FindAllValidCache: caches k with |x - p_k| < r_k (and normals that agree).
+  bool anyValid(const Vec3& x, const Vec3& normal) const;
+  void allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const;
+  // Eq. (3.9) over the valid caches, weights w_k = r_k / |x - p_k| (the seed's 1 / epsilon_k, Eq.
+  // 3.10, up to a factor common to all caches), with the offset x - p_k taken in the cache's tangent
+  // plane; nothing where no cache is valid. The gradients given back are the tangential parts.
+  std::optional<InterpolatedIlluminance> interpolate(const Vec3& x, const Vec3& normal) const;
+
+  const std::vector<IlluminanceCacheEntry>& entries() const { return entries_; }
+  std::size_t nodeCount() const { return nodes_.size(); }
+
+ private:
+  struct Node {
+    Vec3 lo;
+    double side;
+    std::array<int, 8> child{-1, -1, -1, -1, -1, -1, -1, -1};
+    std::vector<std::size_t> entries;
+  };
+  bool valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal) const;
+  bool inShell(const Node& node, const Vec3& x) const;
+  int childContaining(int node, const Vec3& p);
+  bool anyValidBelow(int node, const Vec3& x, const Vec3& normal) const;
+  void allValidBelow(int node, const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const;
+
+  std::vector<Node> nodes_;
+  std::vector<IlluminanceCacheEntry> entries_;
+  double min_normal_cos_;
+};
+
+}  // namespace vdbappear
