@@ -8,12 +8,13 @@
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/render_output.h"
 #include "libvdbappear/render/scene_description.h"
-#include "libvdbappear/subsurface/subsurface_passes.h"
+#include "libvdbappear/render/subsurface_passes.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <optional>
 
 using namespace vdbappear;
@@ -87,7 +88,8 @@ nlohmann::json lightsOf(const CLI::App& app, const Flags& f) {
   return lights;
 }
 
-// The material of --translucent-mesh: the --sss-* flags over TranslucentMaterial's defaults.
+// The material of --translucent-mesh: the --sss-* flags over TranslucentMaterial's defaults. They
+// describe --translucent-mesh only (a scene file gives each mesh its own "translucent" object).
 TranslucentMaterial translucentOf(const CLI::App& app, const Flags& f) {
   TranslucentMaterial material;
   if (app.count("--sss-density")) material.sigma_t = rgbOf(f.sss_density, "--sss-density");
@@ -133,6 +135,10 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     if (app.count("--ground-albedo")) ground.albedo = rgbOf(f.ground_albedo, "--ground-albedo");
     scene.ground = ground;
   }
+  for (const char* flag : {"--sss-density", "--sss-albedo", "--sss-g", "--sss-eta"})
+    if (app.count(flag) && f.translucent_meshes.empty())
+      throw std::runtime_error(fmt::format("{} describes --translucent-mesh, and none is given (a scene file's meshes "
+                                           "take \"translucent\": {{...}})", flag));
   if (!f.meshes.empty() || !f.translucent_meshes.empty()) scene.meshes.clear();  // flags override the file
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
   for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), translucentOf(app, f)});
@@ -297,6 +303,18 @@ int main(int argc, char** argv) {
     if (!scene.medium.empty()) {
       medium = std::make_shared<MediumView>(tool::readInputMedium(kTool, scene.medium, mapping), scene.interpolation, flags.no_sggx);
     }
+    // The checks that need no surfaces first: pass 1 of translucent objects runs in buildRenderScene.
+    const CameraPose pose = cameraOf(scene, medium.get());
+    const PinholeCamera camera(pose, scene.render.width, scene.render.height);
+    if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
+      throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
+    if (scene.render.weight_gradients && (!medium || medium->phaseSource() != PhaseSource::kLobes || medium->clusterCount() == 0))
+      throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
+    if (scene.render.weight_gradients && !flags.sh_lightgrid.empty())
+      throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
+    const bool translucent = std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const MeshDescription& m) { return bool(m.translucent); });
+    if (outputs.subsurface && !translucent) throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
+    if (outputs.subsurface) checkSubsurfaceChannelMemory(scene.render.width, scene.render.height);
     RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
     if (!flags.sh_lightgrid.empty()) {
       render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
@@ -305,21 +323,11 @@ int main(int argc, char** argv) {
                                                                      : CellInterpolation::kHermite;
       render_scene.sh_shadows = !flags.sh_unshadowed;
     }
-    const CameraPose pose = cameraOf(scene, medium.get());
-    const PinholeCamera camera(pose, scene.render.width, scene.render.height);
-    if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
-      throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
-    if (scene.render.weight_gradients && (!medium || medium->phaseSource() != PhaseSource::kLobes || medium->clusterCount() == 0))
-      throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
-    if (scene.render.weight_gradients && render_scene.sh_lights)
-      throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
-    if (outputs.subsurface && render_scene.translucent.empty())
-      throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
-    const SubsurfaceCaching caching =
+    SubsurfaceCaching caching =
         cacheTranslucentObjects(render_scene, camera, scene.render.width, scene.render.height, scene.subsurface, outputs.subsurface);
     ProgressBar progress("render", 0);
     RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
-    if (outputs.subsurface) result.extra_channels = caching.channels;
+    result.extra_channels = std::move(caching.channels);
     writeRenderOutputs(result, outputs);
     nlohmann::json report = reportOf(scene, pose, result, medium.get());
     if (!render_scene.translucent.empty()) report["subsurface"] = subsurfaceReport(scene, caching, render_scene, result);

@@ -5,14 +5,13 @@
 // converted to solid angle: pdf(wi) = r^2 / (A |cos theta_light|).
 
 #include "libvdbappear/math/piecewise_constant.h"
+#include "libvdbappear/math/triangle.h"
 #include "libvdbappear/render/light.h"
 
 #include <array>
 #include <vector>
 
 namespace vdbappear {
-
-using Triangle = std::array<Vec3, 3>;
 
 class AreaLight final : public Light {
  public:

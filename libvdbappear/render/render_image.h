@@ -41,7 +41,7 @@ struct RenderResult {
   int gradient_clusters = 0, gradient_lobes = 0;
   std::vector<float> weight_gradients;
   // Further named channels, one value per pixel, written after the others (the subsurface AOVs,
-  // subsurface/subsurface_passes.h).
+  // render/subsurface_passes.h).
   std::vector<std::pair<std::string, std::vector<float>>> extra_channels;
   double seconds = 0;
   std::uint64_t paths = 0, scattering_events = 0;

@@ -12,8 +12,8 @@
 // respect to a factor w on the weights of lobe slot J in cluster K, at w = 1 (Eq. 23), and
 // "ds.kK.R/G/B", with respect to a colour scale s_K of that channel at s = 1 (Eq. 19): the sum over
 // J of dw.kK.jJ, since I^c depends on s^c and w_kj only through their products.
-// Then RenderResult::extra_channels by name: the subsurface AOVs "sss.cache", "sss.gradS.R/G/B",
-// "sss.V.R/G/B" (subsurface/subsurface_passes.h).
+// Then RenderResult::extra_channels by name: the subsurface AOVs "sss.hit", "sss.cache",
+// "sss.S.R/G/B", "sss.S1.R/G/B", "sss.gradS.R/G/B", "sss.V.R/G/B" (render/subsurface_passes.h).
 
 #include "libvdbappear/image/image_file.h"
 #include "libvdbappear/render/render_image.h"

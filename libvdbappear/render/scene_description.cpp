@@ -4,7 +4,7 @@
 #include "libvdbappear/render/environment_light.h"
 #include "libvdbappear/render/mesh_file.h"
 #include "libvdbappear/subsurface/closed_mesh.h"
-#include "libvdbappear/subsurface/direct_irradiance.h"
+#include "libvdbappear/render/direct_irradiance.h"
 #include "libvdbappear/subsurface/surface_samples.h"
 #include "libvdbappear/util/json_int.h"
 
@@ -156,7 +156,8 @@ void applySubsurface(const json& settings, const std::string& source, Subsurface
   }
   if (settings.contains("light_samples")) {
     subsurface->light_samples = numberOf<int>(settings["light_samples"], source, "subsurface.light_samples");
-    if (subsurface->light_samples < 1) fail(source, "subsurface.light_samples", "must be >= 1");
+    if (subsurface->light_samples < 1 || subsurface->light_samples > (1 << 20))
+      fail(source, "subsurface.light_samples", "must lie in 1..1048576");
   }
 }
 

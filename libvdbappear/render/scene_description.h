@@ -73,7 +73,7 @@ void applySceneJson(const nlohmann::json& json, const std::string& folder, const
                     SceneDescription* scene);
 
 // Builds the lights and surfaces, and runs pass 1 of each translucent object (its irradiance
-// samples; subsurface/direct_irradiance.h). read_image loads environment maps (the image library's
+// samples; render/direct_irradiance.h). read_image loads environment maps (the image library's
 // readRgbImage in tools). The camera is framed with --view on the medium's bounds when asked.
 using ImageReader = std::function<RgbImage(const std::string&)>;
 RenderScene buildRenderScene(const SceneDescription& scene, std::shared_ptr<const MediumView> medium,

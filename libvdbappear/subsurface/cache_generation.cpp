@@ -39,7 +39,7 @@ CachePass generateCaches(const TranslucentObject& object, const std::vector<Visi
     }
     const SubsurfaceEstimate e = object.estimate(v.p);
     pass.cache->insert({v.p, v.normal, e.S, e.gradS, e.V, cacheRadius(e, object.dipole(), settings)});
-    pass.generated_pixels.push_back(v.pixel);
+    if (v.direct) pass.generated_pixels.push_back(v.pixel);
     if (one_pass) pass.one_pass.push_back(e.S);
   }
   return pass;

@@ -5,7 +5,7 @@
 
 #include "libvdbappear/subsurface/illuminance_cache.h"
 #include "libvdbappear/subsurface/irradiance_octree.h"
-#include "libvdbappear/subsurface/visible_points.h"
+#include "libvdbappear/subsurface/visible_point.h"
 
 #include <memory>
 #include <vector>
@@ -25,7 +25,7 @@ double cacheRadius(const SubsurfaceEstimate& estimate, const RgbDipole& dipole, 
 
 struct CachePass {
   std::shared_ptr<IlluminanceCache> cache;
-  std::vector<int> generated_pixels;  // the pixels where a cache was made, in order
+  std::vector<int> generated_pixels;  // the pixels whose own central point made a cache, in order
   // With one_pass: S at each visible point as a one-pass scan would shade it, from the caches made
   // before it (or its own new cache): the seed's §3.5 comparison.
   std::vector<Rgb> one_pass;

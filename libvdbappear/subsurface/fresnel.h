@@ -15,6 +15,7 @@ inline double fresnelTransmittance(double cos_theta, double eta) { return 1 - fr
 // 2 int_0^1 F_r(mu, 1/eta) mu dmu, integrated numerically. The seed quotes the rational fit
 // -1.440/eta^2 + 0.710/eta + 0.668 + 0.0636 eta (§2.3); it agrees within 4e-4 for eta in [1.2, 1.5]
 // but leaves 1.6e-3 at eta = 1, where an index-matched boundary reflects nothing (tested).
+// diffuseFresnelReflectance(1 / eta) is the outside one: of light arriving diffusely from outside.
 double diffuseFresnelReflectance(double eta);
 inline double diffuseFresnelTransmittance(double eta) { return 1 - diffuseFresnelReflectance(eta); }
 

@@ -41,9 +41,10 @@ class IlluminanceCache {
   // FindAnyValidCache and FindAllValidCache: caches k with |x - p_k| < r_k (and normals that agree).
   bool anyValid(const Vec3& x, const Vec3& normal) const;
   void allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const;
-  // Eq. (3.9) over the valid caches, weights w_k = r_k / |x - p_k| (the seed's 1 / epsilon_k, Eq.
-  // 3.10, up to a factor common to all caches), with the offset x - p_k taken in the cache's tangent
-  // plane; nothing where no cache is valid. The gradients given back are the tangential parts.
+  // Eq. (3.9) over the valid caches with the weights w_k = r_k / |x - p_k|: the seed's 1 / epsilon_k
+  // (Eq. 3.10) with epsilon_k relative to the cache's own S_k and a, and its clamps (1 at the edge of
+  // the valid domain, where the seed's w_k a is 1); the offset x - p_k is taken in the cache's
+  // tangent plane. Nothing where no cache is valid. The gradients given back are the tangential parts.
   std::optional<InterpolatedIlluminance> interpolate(const Vec3& x, const Vec3& normal) const;
 
   const std::vector<IlluminanceCacheEntry>& entries() const { return entries_; }

@@ -2,6 +2,9 @@
 
 #include <Eigen/Geometry>
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -40,6 +43,14 @@ void split(const Triangle& t, double max_edge2, std::vector<SurfacePoint>* out) 
 
 std::vector<SurfacePoint> surfacePoints(const std::vector<Triangle>& triangles, double max_edge) {
   if (!(max_edge > 0)) throw std::invalid_argument("surfacePoints: the longest edge must be > 0");
+  double expected = 0;  // halving to max_edge makes about 2 (longest / max_edge)^2 pieces of a face
+  for (const Triangle& t : triangles) {
+    const double longest2 = std::max({(t[1] - t[0]).squaredNorm(), (t[2] - t[1]).squaredNorm(), (t[0] - t[2]).squaredNorm()});
+    expected += std::max(1.0, 2 * longest2 / (max_edge * max_edge));
+  }
+  if (expected > double(kMostPoints))
+    throw std::invalid_argument(fmt::format("about {:.3g} irradiance samples, more than 20 M: the sample spacing is too "
+                                            "small for this mesh", expected));
   std::vector<SurfacePoint> points;
   points.reserve(triangles.size());
   for (const Triangle& t : triangles) split(t, max_edge * max_edge, &points);

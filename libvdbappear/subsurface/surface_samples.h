@@ -3,7 +3,7 @@
 // each face, with the face's area. The seed subdivides a mesh that is too coarse by hand; here
 // faces are split until no edge is longer than a given length.
 
-#include "libvdbappear/render/area_light.h"  // Triangle
+#include "libvdbappear/math/triangle.h"
 
 #include <vector>
 

@@ -20,7 +20,7 @@ struct TranslucentMaterial {
 };
 
 // Throws std::invalid_argument "WHERE: what is wrong" for a negative or non-finite sigma_t, an
-// albedo outside [0, 1], |g| >= 1 or eta <= 0, and for an interior that neither absorbs nor
+// albedo outside [0, 1], |g| >= 1 or eta outside (0, 10], and for an interior that neither absorbs nor
 // scatters in some channel (sigma_t' = 0: the dipole has no length scale there).
 void validateTranslucentMaterial(const TranslucentMaterial& material, const std::string& where);
 

@@ -7,7 +7,8 @@ namespace vdbappear {
 
 TranslucentObject::TranslucentObject(const TranslucentMaterial& material, std::vector<IrradianceSample> samples,
                                      const SubsurfaceSettings& settings)
-    : material_(material), dipole_(material), octree_(std::move(samples)), F_dt_(diffuseFresnelTransmittance(material.eta)) {
+    : material_(material), dipole_(material), octree_(std::move(samples)),
+      F_dt_outside_(diffuseFresnelTransmittance(1 / material.eta)) {
   hierarchy_.max_solid_angle = settings.max_solid_angle;
   hierarchy_.disk_radius = settings.disk_radius * dipole_.shortestDiffusionLength();
 }
@@ -20,7 +21,7 @@ Rgb TranslucentObject::illuminance(const Vec3& p, const Vec3& n) const {
 }
 
 Rgb TranslucentObject::radiance(const Vec3& p, const Vec3& n, double cos_theta) const {
-  return illuminance(p, n) * (fresnelTransmittance(cos_theta, material_.eta) / (F_dt_ * kPi));
+  return illuminance(p, n) * (fresnelTransmittance(cos_theta, material_.eta) / (F_dt_outside_ * kPi));
 }
 
 double TranslucentObject::specularReflectance(double cos_theta) const {

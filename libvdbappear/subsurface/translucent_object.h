@@ -1,7 +1,8 @@
 #pragma once
 // A translucent object as the renderer sees it (docs/subsurface.md): a closed mesh whose light
-// leaves by the dipole, L = F_t(eta, w) / F_dt(eta) S(p) / pi (§2.3 of the translucent-caching
-// seed), with S interpolated from pass 2's caches (pass 3, Eq. 3.9) or, where none is valid or no
+// leaves by the dipole, L = F_t(eta, w) / (1 - F_dr(1/eta)) S(p) / pi, so that its exitance is S
+// (§2.3 of the translucent-caching seed divides by F_dt(eta) instead, docs/subsurface.md §5), with S
+// interpolated from pass 2's caches (pass 3, Eq. 3.9) or, where none is valid or no
 // cache was made, from the hierarchical integration of pass 1's irradiance samples; and a smooth
 // dielectric boundary that reflects F_r(eta, w) specularly.
 
@@ -39,7 +40,8 @@ class TranslucentObject {
   SubsurfaceEstimate estimate(const Vec3& p) const { return octree_.evaluate(p, dipole_, hierarchy_); }
   // S at p with outward normal n: from the cache where one is valid, else by estimate (counted).
   Rgb illuminance(const Vec3& p, const Vec3& n) const;
-  // Radiance leaving the surface at p (outward normal n) toward w, cos_theta = n . w > 0.
+  // Radiance leaving the surface at p (outward normal n) toward w, cos_theta = n . w > 0; its
+  // cosine-weighted integral over the outside hemisphere is S (tested).
   Rgb radiance(const Vec3& p, const Vec3& n, double cos_theta) const;
   double specularReflectance(double cos_theta) const;
 
@@ -61,7 +63,7 @@ class TranslucentObject {
   RgbDipole dipole_;
   HierarchySettings hierarchy_;
   IrradianceOctree octree_;
-  double F_dt_;
+  double F_dt_outside_;  // 1 - F_dr(1/eta): int F_t(eta, w) cos dw / pi over the outside hemisphere
   std::shared_ptr<const IlluminanceCache> cache_;
   mutable std::atomic<std::uint64_t> uncached_lookups_{0};
   double pass1_seconds_ = 0;

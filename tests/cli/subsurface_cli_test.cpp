@@ -39,6 +39,15 @@ void writeCubeObj(const std::string& path, bool open = false) {
 // The camera looks at the +x face head on from x = 3; the face centre is the image centre.
 const std::string kHeadOn = " --camera-pos 3,0,0 --camera-target 0,0,0 --res 32 --sun -1,0,0,1";
 
+// The dipole of the cube's interior in these tests: density 100, albedo 0.99, isotropic.
+DipoleProfile cubeDipole(double eta) {
+  TranslucentMaterial m;
+  m.sigma_t = Rgb::Constant(100);
+  m.albedo = Rgb::Constant(0.99);
+  m.eta = eta;
+  return RgbDipole(m).channel[0];
+}
+
 // Mean of the first channel over the central 6 x 6 pixels (a square of side 0.06 on the face).
 double centreMean(const std::string& exr) {
   const RgbImage image = readRgbImage(exr);
@@ -49,7 +58,7 @@ double centreMean(const std::string& exr) {
 }
 
 // A face lit head on by a sun of irradiance E = 1, far from edges (8.7 diffusion lengths): S is E
-// times the total diffuse reflectance, and L = S / (pi F_dt) with F_dt = 1 at eta = 1. This checks
+// times the total diffuse reflectance, and L = S / (pi (1 - F_dr(1/eta))) = S / pi at eta = 1. This checks
 // pass 1, the hierarchy and the exit term together.
 TEST(SubsurfaceCli, FaceLitHeadOnGivesTheClosedFormDiffuseReflectance) {
   const TempDir dir;
@@ -59,12 +68,27 @@ TEST(SubsurfaceCli, FaceLitHeadOnGivesTheClosedFormDiffuseReflectance) {
                        " --sss-density 100 --sss-albedo 0.99 --sss-eta 1 --spp 1 -o " + quote(out) + kHeadOn)
                 .status,
             0);
-  TranslucentMaterial m;
-  m.sigma_t = Rgb::Constant(100);
-  m.albedo = Rgb::Constant(0.99);
-  m.eta = 1;
-  const double expected = RgbDipole(m).channel[0].totalDiffuseReflectance() / kPi;
+  const double expected = cubeDipole(1.0).totalDiffuseReflectance() / kPi;
   EXPECT_NEAR(centreMean(out), expected, 0.005 * expected);
+}
+
+// Both Fresnel normalisations at eta = 1.3, end to end: a face under a uniform sky of radiance L
+// (each face of a convex cube sees the whole sky above it). Pass 1 lets in E^ = pi L (1 - F_dr(1/eta)),
+// S = E^ R_total, and head on L_out = F_t(1) S / (pi (1 - F_dr(1/eta))) = F_t(1) R_total L; the
+// boundary adds F_r(1) L by reflection. The seed's F_dt E^ in and F_dt out would give 0.56/0.94
+// times the first term (docs/subsurface.md §2, §5).
+TEST(SubsurfaceCli, FaceUnderAUniformSkyGetsBothFresnelTermsRight) {
+  const TempDir dir;
+  const std::string obj = dir.path("cube.obj"), out = dir.path("sky.exr");
+  writeCubeObj(obj);
+  ASSERT_EQ(runCommand(kRender + " --translucent-mesh " + quote(obj) +
+                       " --sss-density 100 --sss-albedo 0.99 --sss-eta 1.3 --env 1 --spp 4 --sss-light-samples 256 -o " +
+                       quote(out) + " --camera-pos 3,0,0 --camera-target 0,0,0 --res 32")
+                .status,
+            0);
+  const double F_r = std::pow(0.3 / 2.3, 2);
+  const double expected = (1 - F_r) * cubeDipole(1.3).totalDiffuseReflectance() + F_r;
+  EXPECT_NEAR(centreMean(out), expected, 0.01 * expected);
 }
 
 // H(mu) of isotropic scattering with albedo w, by iterating H = 1 / (1 - mu int_0^1 (w/2) H(mu') /
@@ -198,6 +222,8 @@ TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {
   const std::string scene = dir.path("scene.json"), typo = dir.path("typo.json");
   writeCubeObj(cube);
   writeCubeObj(open, true);
+  const std::string empty = dir.path("empty.obj");
+  std::ofstream(empty) << "# no faces\n";
   std::ofstream(scene) << R"({"meshes": [{"file": "cube.obj", "translucent": {"density": -3}}]})";
   std::ofstream(typo) << R"({"meshes": [{"file": "cube.obj", "translucent": {"densty": 3}}]})";
   const std::string camera = " --camera-pos 3,0,0 --camera-target 0,0,0 --res 8";
@@ -207,6 +233,10 @@ TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {
   };
   const std::vector<BadInput> cases{
       {"open mesh", "--translucent-mesh " + quote(open), "open.obj: the mesh is not closed"},
+      {"empty mesh", "--translucent-mesh " + quote(empty), "empty.obj"},
+      {"eta beyond ten", "--translucent-mesh " + quote(cube) + " --sss-eta 1e9", "is beyond 10 (the dipole"},
+      {"material flag without a translucent mesh", "--mesh " + quote(cube) + " --sss-g 0.5",
+       "--sss-g describes --translucent-mesh"},
       {"negative density", "--translucent-mesh " + quote(cube) + " --sss-density -1", "--translucent-mesh: density (sigma_t) -1"},
       {"zero eta", "--translucent-mesh " + quote(cube) + " --sss-eta 0", "--translucent-mesh: eta 0 must be > 0"},
       {"albedo above one", "--translucent-mesh " + quote(cube) + " --sss-albedo 1.2", "albedo 1.2 must lie in [0, 1]"},

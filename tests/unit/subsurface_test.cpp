@@ -214,6 +214,29 @@ TEST(IrradianceOctree, NearFacesAreIntegratedSoAUniformPlaneGivesTheClosedForm) 
   EXPECT_GT(worst_summed, 0.1);
 }
 
+// L = F_t(eta, w) / (1 - F_dr(1/eta)) S / pi leaves the surface with exitance S: int L cos dw over
+// the outside hemisphere = S. The seed's F_dt(eta) = 1 - F_dr(eta) in its place gives eta^2 S
+// (1.69 S at eta = 1.3), the negative control.
+TEST(TranslucentObject, ExitanceIsTheSubsurfaceIlluminance) {
+  for (double eta : {1.0, 1.3, 1.5}) {
+    TranslucentMaterial m = marble();
+    m.eta = eta;
+    test::TestRandom random(17);
+    const TranslucentObject object(m, wavySheet(30, 2.0, random), SubsurfaceSettings{});
+    const Vec3 p(0.1, 0.2, 0.1 * std::sin(0.4));
+    const Rgb S = object.illuminance(p, Vec3::UnitZ());
+    Rgb exitance = Rgb::Zero();
+    const int steps = 20000;
+    for (int i = 0; i < steps; ++i) {
+      const double mu = (i + 0.5) / steps;
+      exitance += object.radiance(p, Vec3::UnitZ(), mu) * (2 * kPi * mu / steps);
+    }
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(exitance[c], S[c], 1e-4 * S[c]) << eta;
+    const double seed_normalisation = diffuseFresnelTransmittance(1 / eta) / diffuseFresnelTransmittance(eta);
+    EXPECT_NEAR(seed_normalisation, eta * eta, 2e-3) << eta;  // the seed's exitance would be eta^2 S
+  }
+}
+
 TEST(IrradianceOctree, RootKeepsTheSumsOfEquationsThreeElevenToThirteen) {
   test::TestRandom random(9);
   const std::vector<IrradianceSample> samples = wavySheet(40, 1.0, random);

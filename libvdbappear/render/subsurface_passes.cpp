@@ -1,10 +1,16 @@
-#include "libvdbappear/subsurface/subsurface_passes.h"
+#include "libvdbappear/render/subsurface_passes.h"
 
+#include "libvdbappear/io/resource_limits.h"
 #include "libvdbappear/render/render_scene.h"
 #include "libvdbappear/subsurface/cache_generation.h"
-#include "libvdbappear/subsurface/visible_points.h"
+#include "libvdbappear/render/visible_points.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <stdexcept>
 #include <optional>
 
 namespace vdbappear {
@@ -26,6 +32,7 @@ struct PixelChannels {
       for (int pixel : pass->generated_pixels) cache[std::size_t(pixel)] = 1;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const VisiblePoint& v = points[k];
+      if (!v.direct) continue;
       const std::size_t i = std::size_t(v.pixel);
       hit[i] = 1;
       std::optional<InterpolatedIlluminance> at;
@@ -51,6 +58,14 @@ std::vector<float> channelOf(const std::vector<float>& rgb, int c) {
 
 }  // namespace
 
+void checkSubsurfaceChannelMemory(int width, int height) {
+  const std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * 14 * sizeof(float) * 2;
+  if (bytes <= maxRenderBytes() / 2) return;
+  throw std::invalid_argument(fmt::format("--aov sss at {}x{} needs about {:.2f} GiB, more than half the render memory "
+                                          "limit (VDBAPPEAR_MAX_RENDER_BYTES)",
+                                          width, height, double(bytes) / (1024.0 * 1024.0 * 1024.0)));
+}
+
 SubsurfaceCaching cacheTranslucentObjects(RenderScene& scene, const PinholeCamera& camera, int width, int height,
                                           const SubsurfaceSettings& settings, bool with_channels) {
   SubsurfaceCaching result;
@@ -61,7 +76,7 @@ SubsurfaceCaching cacheTranslucentObjects(RenderScene& scene, const PinholeCamer
     TranslucentObject& object = *scene.translucent[i];
     SubsurfaceObjectStats stats;
     stats.irradiance_samples = object.octree().samples().size();
-    stats.hit_pixels = points[i].size();
+    stats.hit_pixels = std::size_t(std::count_if(points[i].begin(), points[i].end(), [](const VisiblePoint& v) { return v.direct; }));
     stats.pass1_seconds = object.pass1Seconds();
     std::optional<CachePass> pass;
     if (settings.cache_error > 0) {

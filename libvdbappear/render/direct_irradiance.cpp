@@ -1,4 +1,4 @@
-#include "libvdbappear/subsurface/direct_irradiance.h"
+#include "libvdbappear/render/direct_irradiance.h"
 
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/render/render_scene.h"

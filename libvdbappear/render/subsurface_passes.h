@@ -32,6 +32,10 @@ struct SubsurfaceCaching {
   std::vector<std::pair<std::string, std::vector<float>>> channels;
 };
 
+// Refuses (std::invalid_argument) subsurface channels that would not fit the render memory limit
+// (io/resource_limits.h) beside the render: 14 floats per pixel, held twice while they are made.
+void checkSubsurfaceChannelMemory(int width, int height);
+
 // Runs pass 2 for each object with settings.cache_error > 0 (a fixed order: objects in scene
 // order, each over its visible points in bottom-up scan lines) and attaches the caches.
 SubsurfaceCaching cacheTranslucentObjects(RenderScene& scene, const PinholeCamera& camera, int width, int height,
