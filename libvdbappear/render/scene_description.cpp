@@ -1,10 +1,10 @@
 #include "libvdbappear/render/scene_description.h"
 
 #include "libvdbappear/render/area_light.h"
+#include "libvdbappear/render/direct_irradiance.h"
 #include "libvdbappear/render/environment_light.h"
 #include "libvdbappear/render/mesh_file.h"
 #include "libvdbappear/subsurface/closed_mesh.h"
-#include "libvdbappear/render/direct_irradiance.h"
 #include "libvdbappear/subsurface/surface_samples.h"
 #include "libvdbappear/util/json_int.h"
 
