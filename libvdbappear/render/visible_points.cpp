@@ -13,13 +13,15 @@ constexpr int kMirrorBounces = 2;
 // The points along one pixel's central ray: where it meets a translucent object facing it, then
 // along the mirror reflection of a boundary that reflects (eta != 1), up to kMirrorBounces times.
 void tracePixel(const RenderScene& scene, Ray ray, int pixel, std::vector<std::vector<VisiblePoint>>* points) {
+  double reflectance = 1;  // of the reflections on the way
   for (int bounce = 0; bounce <= kMirrorBounces; ++bounce) {
     const std::optional<SurfaceHit> hit = scene.surfaces->intersect(ray.o, ray.d, bounce == 0 ? 0.0 : scene.ray_epsilon, kInfinity);
     if (!hit || hit->translucent < 0 || hit->normal.dot(ray.d) >= 0) return;
     const Vec3 p = ray(hit->t);
-    (*points)[std::size_t(hit->translucent)].push_back({p, hit->normal, pixel, bounce == 0});
+    (*points)[std::size_t(hit->translucent)].push_back({p, hit->normal, pixel, bounce == 0, cacheReach(reflectance)});
     const TranslucentObject& object = *scene.translucent[std::size_t(hit->translucent)];
-    if (!(object.specularReflectance(-hit->normal.dot(ray.d)) > 0)) return;
+    reflectance *= object.specularReflectance(-hit->normal.dot(ray.d));
+    if (!(reflectance > 0)) return;
     ray = {p + scene.ray_epsilon * hit->normal, ray.d - 2 * ray.d.dot(hit->normal) * hit->normal};
   }
 }

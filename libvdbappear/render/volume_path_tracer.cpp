@@ -168,6 +168,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   const int max_depth = settings_.max_depth < 0 ? std::numeric_limits<int>::max() : settings_.max_depth;
   const double eps = scene_.ray_epsilon;
   bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
+  double mirror_reflectance = 1;  // of the camera ray's mirror reflections so far; 0 once a path scatters otherwise
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   for (int depth = 0;; ++depth) {
     const bool camera_ray = depth == 0;
@@ -204,13 +205,15 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       const TranslucentObject& object = *scene_.translucent[std::size_t(hit->translucent)];
       const double cos_theta = hit->normal.dot(-ray.d);
       if (cos_theta <= 0) break;  // reached from inside: the interior is the dipole's
-      const Rgb Lo = object.radiance(ray(hit->t), hit->normal, cos_theta);
+      const double reach = mirror_reflectance > 0 ? cacheReach(mirror_reflectance) : 1.0;
+      const Rgb Lo = object.radiance(ray(hit->t), hit->normal, cos_theta, reach);
       result.L += beta * Lo;
       if (gradients) gradients->addLight(Lo);
       const double F = object.specularReflectance(cos_theta);
       if (depth >= max_depth || !(F > 0)) break;
       ++result.scattering_events;
       beta *= F;
+      mirror_reflectance *= F;
       if (gradients) gradients->scaleThroughput(F);
       ray = {ray(hit->t) + eps * hit->normal, ray.d - 2 * ray.d.dot(hit->normal) * hit->normal};
       prev_specular = true;
@@ -241,6 +244,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     beta *= s.weight;
     prev_pdf = s.pdf;
     prev_specular = false;
+    mirror_reflectance = 0;
     ray = {vertex.p, s.wo};
     if (!survivesRoulette(depth, rng, &beta, gradients)) break;
   }

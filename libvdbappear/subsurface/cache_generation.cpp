@@ -33,8 +33,8 @@ CachePass generateCaches(const TranslucentObject& object, const std::vector<Visi
   CachePass pass;
   pass.cache = std::make_shared<IlluminanceCache>(lo, hi, settings.min_normal_cos);
   for (const VisiblePoint& v : points) {
-    if (pass.cache->anyValid(v.p, v.normal)) {
-      if (one_pass) pass.one_pass.push_back(pass.cache->interpolate(v.p, v.normal)->S);
+    if (pass.cache->anyValid(v.p, v.normal, v.reach)) {
+      if (one_pass) pass.one_pass.push_back(pass.cache->interpolate(v.p, v.normal, v.reach)->S);
       continue;
     }
     const SubsurfaceEstimate e = object.estimate(v.p);

@@ -11,15 +11,16 @@ IlluminanceCache::IlluminanceCache(const Vec3& lo, const Vec3& hi, double min_no
   nodes_.push_back(Node{centre - Vec3::Constant(side / 2), side});
 }
 
-bool IlluminanceCache::valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal) const {
-  return (x - e.p).squaredNorm() < e.radius * e.radius && e.normal.dot(normal) >= min_normal_cos_;
+bool IlluminanceCache::valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal, double reach) const {
+  return (x - e.p).squaredNorm() < reach * reach * e.radius * e.radius && e.normal.dot(normal) >= min_normal_cos_;
 }
 
 // The shell of a node (Fig. 3.5): its cube grown from side S to 2S about its centre. A cache stored
-// in the node lies inside it and has r_k <= S / 2, so every point it serves lies in the shell.
-bool IlluminanceCache::inShell(const Node& node, const Vec3& x) const {
-  const Vec3 lo = node.lo - Vec3::Constant(node.side / 2);
-  const Vec3 hi = node.lo + Vec3::Constant(1.5 * node.side);
+// in the node lies inside it and has r_k <= S / 2, so every point it serves lies in the shell; with
+// a reach above 1, the cube grown by reach S / 2 on each side.
+bool IlluminanceCache::inShell(const Node& node, const Vec3& x, double reach) const {
+  const Vec3 lo = node.lo - Vec3::Constant(reach * node.side / 2);
+  const Vec3 hi = node.lo + Vec3::Constant((1 + reach / 2) * node.side);
   return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
 }
 
@@ -49,33 +50,36 @@ void IlluminanceCache::insert(const IlluminanceCacheEntry& entry) {
 // FindAnyValidCache. The seed returns the first shell-holding child's answer ("Return
 // FindAnyValidCache(x, j)"), which misses a valid cache in a sibling whose shell also holds x: a
 // child's "no" here goes on to the next child (tested against a linear scan).
-bool IlluminanceCache::anyValidBelow(int index, const Vec3& x, const Vec3& normal) const {
+bool IlluminanceCache::anyValidBelow(int index, const Vec3& x, const Vec3& normal, double reach) const {
   const Node& node = nodes_[std::size_t(index)];
   for (std::size_t k : node.entries)
-    if (valid(entries_[k], x, normal)) return true;
+    if (valid(entries_[k], x, normal, reach)) return true;
   for (int child : node.child)
-    if (child >= 0 && inShell(nodes_[std::size_t(child)], x) && anyValidBelow(child, x, normal)) return true;
+    if (child >= 0 && inShell(nodes_[std::size_t(child)], x, reach) && anyValidBelow(child, x, normal, reach)) return true;
   return false;
 }
 
-bool IlluminanceCache::anyValid(const Vec3& x, const Vec3& normal) const { return anyValidBelow(0, x, normal); }
+bool IlluminanceCache::anyValid(const Vec3& x, const Vec3& normal, double reach) const {
+  return anyValidBelow(0, x, normal, reach);
+}
 
-void IlluminanceCache::allValidBelow(int index, const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const {
+void IlluminanceCache::allValidBelow(int index, const Vec3& x, const Vec3& normal, double reach,
+                                     std::vector<std::size_t>* found) const {
   const Node& node = nodes_[std::size_t(index)];
   for (std::size_t k : node.entries)
-    if (valid(entries_[k], x, normal)) found->push_back(k);
+    if (valid(entries_[k], x, normal, reach)) found->push_back(k);
   for (int child : node.child)
-    if (child >= 0 && inShell(nodes_[std::size_t(child)], x)) allValidBelow(child, x, normal, found);
+    if (child >= 0 && inShell(nodes_[std::size_t(child)], x, reach)) allValidBelow(child, x, normal, reach, found);
 }
 
-void IlluminanceCache::allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const {
+void IlluminanceCache::allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found, double reach) const {
   found->clear();
-  allValidBelow(0, x, normal, found);
+  allValidBelow(0, x, normal, reach, found);
 }
 
-std::optional<InterpolatedIlluminance> IlluminanceCache::interpolate(const Vec3& x, const Vec3& normal) const {
+std::optional<InterpolatedIlluminance> IlluminanceCache::interpolate(const Vec3& x, const Vec3& normal, double reach) const {
   thread_local std::vector<std::size_t> found;
-  allValid(x, normal, &found);
+  allValid(x, normal, &found, reach);
   if (found.empty()) return std::nullopt;
   std::sort(found.begin(), found.end());  // a fixed order of summation, whatever the octree's
   InterpolatedIlluminance result;

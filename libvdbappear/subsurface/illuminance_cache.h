@@ -30,6 +30,13 @@ struct InterpolatedIlluminance {
   std::size_t caches = 0;  // |C|
 };
 
+// How far a cache may reach for a point seen through mirror reflections of total reflectance F
+// (the product of F_r along the way): its light reaches the pixel scaled by F, so a cache may serve
+// it out to 1/F times its radius, at most 8 (docs/subsurface.md §6); 1 for a point seen directly.
+inline double cacheReach(double reflectance) {
+  return reflectance >= 1 ? 1.0 : reflectance <= 1.0 / 8 ? 8.0 : 1 / reflectance;
+}
+
 class IlluminanceCache {
  public:
   // A cube around [lo, hi] is the root; min_normal_cos: a cache serves a point only where their
@@ -38,14 +45,15 @@ class IlluminanceCache {
 
   // StoredCaches: down to the node whose side is no more than 4 r_k (split on demand).
   void insert(const IlluminanceCacheEntry& entry);
-  // FindAnyValidCache and FindAllValidCache: caches k with |x - p_k| < r_k (and normals that agree).
-  bool anyValid(const Vec3& x, const Vec3& normal) const;
-  void allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const;
+  // FindAnyValidCache and FindAllValidCache: caches k with |x - p_k| < reach r_k (and normals that
+  // agree); reach > 1 for points seen through reflections (cacheReach).
+  bool anyValid(const Vec3& x, const Vec3& normal, double reach = 1) const;
+  void allValid(const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found, double reach = 1) const;
   // Eq. (3.9) over the valid caches with the weights w_k = r_k / |x - p_k|: the seed's 1 / epsilon_k
   // (Eq. 3.10) with epsilon_k relative to the cache's own S_k and a, and its clamps (1 at the edge of
   // the valid domain, where the seed's w_k a is 1); the offset x - p_k is taken in the cache's
   // tangent plane. Nothing where no cache is valid. The gradients given back are the tangential parts.
-  std::optional<InterpolatedIlluminance> interpolate(const Vec3& x, const Vec3& normal) const;
+  std::optional<InterpolatedIlluminance> interpolate(const Vec3& x, const Vec3& normal, double reach = 1) const;
 
   const std::vector<IlluminanceCacheEntry>& entries() const { return entries_; }
   std::size_t nodeCount() const { return nodes_.size(); }
@@ -57,11 +65,11 @@ class IlluminanceCache {
     std::array<int, 8> child{-1, -1, -1, -1, -1, -1, -1, -1};
     std::vector<std::size_t> entries;
   };
-  bool valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal) const;
-  bool inShell(const Node& node, const Vec3& x) const;
+  bool valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal, double reach) const;
+  bool inShell(const Node& node, const Vec3& x, double reach) const;
   int childContaining(int node, const Vec3& p);
-  bool anyValidBelow(int node, const Vec3& x, const Vec3& normal) const;
-  void allValidBelow(int node, const Vec3& x, const Vec3& normal, std::vector<std::size_t>* found) const;
+  bool anyValidBelow(int node, const Vec3& x, const Vec3& normal, double reach) const;
+  void allValidBelow(int node, const Vec3& x, const Vec3& normal, double reach, std::vector<std::size_t>* found) const;
 
   std::vector<Node> nodes_;
   std::vector<IlluminanceCacheEntry> entries_;

@@ -13,15 +13,15 @@ TranslucentObject::TranslucentObject(const TranslucentMaterial& material, std::v
   hierarchy_.disk_radius = settings.disk_radius * dipole_.shortestDiffusionLength();
 }
 
-Rgb TranslucentObject::illuminance(const Vec3& p, const Vec3& n) const {
+Rgb TranslucentObject::illuminance(const Vec3& p, const Vec3& n, double reach) const {
   if (cache_)
-    if (const std::optional<InterpolatedIlluminance> cached = cache_->interpolate(p, n)) return cached->S;
+    if (const std::optional<InterpolatedIlluminance> cached = cache_->interpolate(p, n, reach)) return cached->S;
   if (cache_) uncached_lookups_.fetch_add(1, std::memory_order_relaxed);
   return estimate(p).S;
 }
 
-Rgb TranslucentObject::radiance(const Vec3& p, const Vec3& n, double cos_theta) const {
-  return illuminance(p, n) * (fresnelTransmittance(cos_theta, material_.eta) / (F_dt_outside_ * kPi));
+Rgb TranslucentObject::radiance(const Vec3& p, const Vec3& n, double cos_theta, double reach) const {
+  return illuminance(p, n, reach) * (fresnelTransmittance(cos_theta, material_.eta) / (F_dt_outside_ * kPi));
 }
 
 double TranslucentObject::specularReflectance(double cos_theta) const {

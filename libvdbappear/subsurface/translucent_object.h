@@ -38,11 +38,12 @@ class TranslucentObject {
 
   // S, grad S and V at p (hierarchical integration, uncached).
   SubsurfaceEstimate estimate(const Vec3& p) const { return octree_.evaluate(p, dipole_, hierarchy_); }
-  // S at p with outward normal n: from the cache where one is valid, else by estimate (counted).
-  Rgb illuminance(const Vec3& p, const Vec3& n) const;
+  // S at p with outward normal n: from the cache where one is valid (within reach times its
+  // radius: IlluminanceCache, cacheReach), else by estimate (counted).
+  Rgb illuminance(const Vec3& p, const Vec3& n, double reach = 1) const;
   // Radiance leaving the surface at p (outward normal n) toward w, cos_theta = n . w > 0; its
   // cosine-weighted integral over the outside hemisphere is S (tested).
-  Rgb radiance(const Vec3& p, const Vec3& n, double cos_theta) const;
+  Rgb radiance(const Vec3& p, const Vec3& n, double cos_theta, double reach = 1) const;
   double specularReflectance(double cos_theta) const;
 
   // Pass 2's caches; before any render (the object is read-only while rendering).

@@ -10,6 +10,7 @@ struct VisiblePoint {
   Vec3 p, normal;       // outward unit normal
   int pixel = 0;        // y * width + x, row 0 at the top
   bool direct = true;   // on the pixel's central ray itself, not seen in a mirror reflection
+  double reach = 1;     // cacheReach of the reflections on the way (1 for a direct point)
 };
 
 }  // namespace vdbappear

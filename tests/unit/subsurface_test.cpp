@@ -365,7 +365,8 @@ TEST(TranslucentMaterial, BadValuesNameTheProblem) {
 }
 
 // FindAnyValidCache and FindAllValidCache against a linear scan: caches of radii over two decades
-// (so they rest at many octree levels) and queries near and between them. The seed's early return
+// (so they rest at many octree levels) and queries near and between them, half of them with the
+// reach of a point seen in a reflection (shells grown to match). The seed's early return
 // in FindAnyValidCache would answer "no" here whenever the first shell holding x held no valid cache.
 TEST(IlluminanceCache, LookupsMatchALinearScan) {
   test::TestRandom random(11);
@@ -383,14 +384,15 @@ TEST(IlluminanceCache, LookupsMatchALinearScan) {
   for (int q = 0; q < 4000; ++q) {
     const Vec3 x = entries[std::size_t(q) % entries.size()].p + 0.3 * random.direction() * random.uniform();
     const Vec3 n = random.direction();
+    const double reach = q % 2 ? 1.0 : cacheReach(0.2);  // every other query as if seen in a reflection: 5 r_k
     std::vector<std::size_t> expected;
     for (std::size_t k = 0; k < entries.size(); ++k)
-      if ((x - entries[k].p).norm() < entries[k].radius && entries[k].normal.dot(n) >= 0.5) expected.push_back(k);
+      if ((x - entries[k].p).norm() < reach * entries[k].radius && entries[k].normal.dot(n) >= 0.5) expected.push_back(k);
     std::vector<std::size_t> found;
-    cache.allValid(x, n, &found);
+    cache.allValid(x, n, &found, reach);
     std::sort(found.begin(), found.end());
     EXPECT_EQ(found, expected) << q;
-    EXPECT_EQ(cache.anyValid(x, n), !expected.empty()) << q;
+    EXPECT_EQ(cache.anyValid(x, n, reach), !expected.empty()) << q;
     valid_queries += !expected.empty();
   }
   EXPECT_GT(valid_queries, 400);  // the queries exercise both answers
