@@ -141,7 +141,10 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
                                            "take \"translucent\": {{...}})", flag));
   if (!f.meshes.empty() || !f.translucent_meshes.empty()) scene.meshes.clear();  // flags override the file
   for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
-  for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), translucentOf(app, f)});
+  if (!f.translucent_meshes.empty()) {
+    const TranslucentMaterial material = translucentOf(app, f);
+    for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), material});
+  }
   if (app.count("--sss-spacing")) scene.subsurface.sample_spacing = f.sss_spacing;
   if (app.count("--sss-solid-angle")) scene.subsurface.max_solid_angle = f.sss_solid_angle;
   if (app.count("--sss-light-samples")) scene.subsurface.light_samples = f.sss_light_samples;

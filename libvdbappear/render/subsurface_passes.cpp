@@ -35,7 +35,7 @@ struct PixelChannels {
       if (!v.direct) continue;
       const std::size_t i = std::size_t(v.pixel);
       hit[i] = 1;
-      std::optional<InterpolatedIlluminance> at;
+      std::optional<SubsurfaceEstimate> at;
       if (pass) at = pass->cache->interpolate(v.p, v.normal);
       const Rgb S_here = at ? at->S : object.estimate(v.p).S;  // as illuminance(), uncounted
       const Rgb S_one = pass ? pass->one_pass[k] : S_here;

@@ -20,12 +20,8 @@ double cacheRadius(const SubsurfaceEstimate& e, const RgbDipole& dipole, const S
 
 CachePass generateCaches(const TranslucentObject& object, const std::vector<VisiblePoint>& points,
                          const SubsurfaceSettings& settings, bool one_pass) {
-  const IrradianceOctree& samples = object.octree();
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const IrradianceSample& s : samples.samples()) {
-    lo = lo.cwiseMin(s.p);
-    hi = hi.cwiseMax(s.p);
-  }
+  // Caches are made at visible points only: their box is the octree's root.
+  Vec3 lo = points.empty() ? Vec3::Zero() : points[0].p, hi = lo;
   for (const VisiblePoint& v : points) {
     lo = lo.cwiseMin(v.p);
     hi = hi.cwiseMax(v.p);

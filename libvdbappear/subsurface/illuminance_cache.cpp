@@ -77,12 +77,12 @@ void IlluminanceCache::allValid(const Vec3& x, const Vec3& normal, std::vector<s
   allValidBelow(0, x, normal, reach, found);
 }
 
-std::optional<InterpolatedIlluminance> IlluminanceCache::interpolate(const Vec3& x, const Vec3& normal, double reach) const {
+std::optional<SubsurfaceEstimate> IlluminanceCache::interpolate(const Vec3& x, const Vec3& normal, double reach) const {
   thread_local std::vector<std::size_t> found;
   allValid(x, normal, &found, reach);
   if (found.empty()) return std::nullopt;
   std::sort(found.begin(), found.end());  // a fixed order of summation, whatever the octree's
-  InterpolatedIlluminance result;
+  SubsurfaceEstimate result;
   double weight_sum = 0;
   for (std::size_t k : found) {
     const IlluminanceCacheEntry& e = entries_[k];
@@ -102,7 +102,7 @@ std::optional<InterpolatedIlluminance> IlluminanceCache::interpolate(const Vec3&
   result.S = (result.S / weight_sum).max(0.0);  // a gradient may extrapolate below zero
   for (Vec3& g : result.gradS) g /= weight_sum;
   result.V /= weight_sum;
-  result.caches = found.size();
+  result.terms = found.size();
   return result;
 }
 

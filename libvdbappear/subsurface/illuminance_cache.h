@@ -6,6 +6,7 @@
 
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/subsurface/irradiance_octree.h"  // SubsurfaceEstimate
 
 #include <array>
 #include <cstddef>
@@ -20,14 +21,6 @@ struct IlluminanceCacheEntry {
   std::array<Vec3, 3> gradS{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
   Rgb V = Rgb::Zero();
   double radius = 0;  // r_k: the cache serves points closer than this
-};
-
-// What Eq. (3.9) gives at a point: S, and the weighted means of the caches' grad S and V (the AOVs).
-struct InterpolatedIlluminance {
-  Rgb S = Rgb::Zero();
-  std::array<Vec3, 3> gradS{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-  Rgb V = Rgb::Zero();
-  std::size_t caches = 0;  // |C|
 };
 
 // How far a cache may reach for a point seen through mirror reflections of total reflectance F
@@ -52,8 +45,9 @@ class IlluminanceCache {
   // Eq. (3.9) over the valid caches with the weights w_k = r_k / |x - p_k|: the seed's 1 / epsilon_k
   // (Eq. 3.10) with epsilon_k relative to the cache's own S_k and a, and its clamps (1 at the edge of
   // the valid domain, where the seed's w_k a is 1); the offset x - p_k is taken in the cache's
-  // tangent plane. Nothing where no cache is valid. The gradients given back are the tangential parts.
-  std::optional<InterpolatedIlluminance> interpolate(const Vec3& x, const Vec3& normal, double reach = 1) const;
+  // tangent plane. Nothing where no cache is valid. It gives S, and the weighted means of the caches'
+  // grad S (their tangential parts) and V (the AOVs), with terms = |C|, the caches used.
+  std::optional<SubsurfaceEstimate> interpolate(const Vec3& x, const Vec3& normal, double reach = 1) const;
 
   const std::vector<IlluminanceCacheEntry>& entries() const { return entries_; }
   std::size_t nodeCount() const { return nodes_.size(); }

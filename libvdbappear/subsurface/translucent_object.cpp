@@ -14,9 +14,9 @@ TranslucentObject::TranslucentObject(const TranslucentMaterial& material, std::v
 }
 
 Rgb TranslucentObject::illuminance(const Vec3& p, const Vec3& n, double reach) const {
-  if (cache_)
-    if (const std::optional<InterpolatedIlluminance> cached = cache_->interpolate(p, n, reach)) return cached->S;
-  if (cache_) uncached_lookups_.fetch_add(1, std::memory_order_relaxed);
+  if (!cache_) return estimate(p).S;
+  if (const std::optional<SubsurfaceEstimate> cached = cache_->interpolate(p, n, reach)) return cached->S;
+  uncached_lookups_.fetch_add(1, std::memory_order_relaxed);
   return estimate(p).S;
 }
 

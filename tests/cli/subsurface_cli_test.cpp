@@ -15,7 +15,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <map>
 
 namespace vdbappear {
@@ -197,11 +196,6 @@ TEST(SubsurfaceCli, CachesServeMostPixelsWithASmallError) {
   EXPECT_GT(one_pass, two_pass);
 }
 
-std::string bytesOf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // Pass 1 draws each irradiance sample's light from its own stream: the image does not depend on
 // the thread count. A sky (64 light samples per point) and a sun, eta 1.3 (specular reflection).
 TEST(SubsurfaceCli, SameSeedSameImageWhateverTheThreadCount) {
@@ -213,7 +207,7 @@ TEST(SubsurfaceCli, SameSeedSameImageWhateverTheThreadCount) {
                            " --camera-pos 2,-3,2 --camera-target 0,0,0 --seed 7";
   ASSERT_EQ(runCommand(args + " -j 1 -o " + quote(one)).status, 0);
   ASSERT_EQ(runCommand(args + " -j 2 -o " + quote(two)).status, 0);
-  EXPECT_EQ(bytesOf(one), bytesOf(two));
+  EXPECT_EQ(test::readFileBytes(one), test::readFileBytes(two));
 }
 
 TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {

@@ -417,7 +417,7 @@ TEST(IlluminanceCache, GradientCorrectedInterpolationIsExactForLinearIlluminance
   for (const Vec3& x : {Vec3(0.05, 0.05, 0), Vec3(-0.2, 0.3, 0), Vec3(0.2, 0.1, 0)}) {
     const auto at = cache.interpolate(x, Vec3::UnitZ());
     ASSERT_TRUE(at);
-    EXPECT_EQ(at->caches, 3u);
+    EXPECT_EQ(at->terms, 3u);
     EXPECT_NEAR(at->S[0], S(x), 1e-12);
     EXPECT_NEAR(at->gradS[0].z(), 0.0, 1e-12);  // the tangential part
   }
