@@ -82,7 +82,7 @@ TEST(Dipole, ProfileIntegratesToTheClosedFormDiffuseReflectance) {
 TEST(Dipole, GradientOfRsMatchesCentralDifferences) {
   test::TestRandom random(7);
   for (const TranslucentMaterial& m : {marble(), skimMilk(), cubeInterior()}) {
-    const DipoleProfile& p = RgbDipole(m).channel[1];
+    const DipoleProfile p = RgbDipole(m).channel[1];
     const double length = 1 / p.sigmaTr();
     for (int trial = 0; trial < 20; ++trial) {
       const Vec3 x = random.direction() * length * (0.01 + 3 * random.uniform());
@@ -457,7 +457,7 @@ TEST(CacheGeneration, RadiusFromTheSplitDiskIsRelativeAndClamped) {
 // The split disk's slope (Eq. 3.10) is the limit of its derivation: V 2 alpha' / (pi R) times the
 // bracket, checked here against the difference quotient of 4 Delta S_A over a small Delta u.
 TEST(Dipole, SplitDiskSlopeIsTheLimitOfItsSectorIntegral) {
-  const DipoleProfile& p = RgbDipole(marble()).channel[0];
+  const DipoleProfile p = RgbDipole(marble()).channel[0];
   const double R = 1 / p.sigmaTr(), du = 1e-6 * R;
   // 4 Delta S_A / Delta u with E = 2V = 2 (V = 1): 8 theta_R int_0^R R_d(r) r dr, theta_R = asin(du / R).
   double integral = 0;
