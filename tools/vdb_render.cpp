@@ -140,7 +140,11 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
       throw std::runtime_error(fmt::format("{} describes --translucent-mesh, and none is given (a scene file's meshes "
                                            "take \"translucent\": {{...}})", flag));
   if (!f.meshes.empty() || !f.translucent_meshes.empty()) scene.meshes.clear();  // flags override the file
-  for (const std::string& mesh : f.meshes) scene.meshes.push_back({mesh});
+  for (const std::string& file : f.meshes) {
+    MeshDescription mesh;
+    mesh.file = file;
+    scene.meshes.push_back(mesh);
+  }
   if (!f.translucent_meshes.empty()) {
     const TranslucentMaterial material = translucentOf(app, f);
     for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), material});

@@ -217,7 +217,8 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
       const std::string where = fmt::format("meshes[{}]", i);
       checkKeys(m, {"file", "albedo", "translucent"}, source, where);
       if (!m.contains("file")) fail(source, where, "a mesh needs a \"file\"");
-      MeshDescription mesh{resolve(folder, m["file"].get<std::string>())};
+      MeshDescription mesh;
+      mesh.file = resolve(folder, m["file"].get<std::string>());
       if (m.contains("albedo")) mesh.albedo = rgbOf(m["albedo"], source, where + ".albedo");
       if (m.contains("translucent")) mesh.translucent = translucentOf(m["translucent"], source, where + ".translucent");
       scene->meshes.push_back(mesh);

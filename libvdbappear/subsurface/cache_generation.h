@@ -12,7 +12,7 @@
 
 namespace vdbappear {
 
-class RgbDipole;
+struct RgbDipole;
 class TranslucentObject;
 struct SubsurfaceSettings;
 

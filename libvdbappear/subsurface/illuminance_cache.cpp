@@ -8,7 +8,7 @@ namespace vdbappear {
 IlluminanceCache::IlluminanceCache(const Vec3& lo, const Vec3& hi, double min_normal_cos) : min_normal_cos_(min_normal_cos) {
   const double side = (hi - lo).maxCoeff() * (1 + 1e-6) + 1e-9;
   const Vec3 centre = 0.5 * (lo + hi);
-  nodes_.push_back(Node{centre - Vec3::Constant(side / 2), side});
+  nodes_.emplace_back(centre - Vec3::Constant(side / 2), side);
 }
 
 bool IlluminanceCache::valid(const IlluminanceCacheEntry& e, const Vec3& x, const Vec3& normal, double reach) const {
@@ -32,7 +32,7 @@ int IlluminanceCache::childContaining(int index, const Vec3& p) {
     Vec3 lo = nodes_[std::size_t(index)].lo;
     for (int axis = 0; axis < 3; ++axis)
       if ((octant >> axis) & 1) lo[axis] += half;
-    nodes_.push_back(Node{lo, half});
+    nodes_.emplace_back(lo, half);
     nodes_[std::size_t(index)].child[octant] = int(nodes_.size() - 1);
   }
   return nodes_[std::size_t(index)].child[octant];

@@ -54,6 +54,7 @@ class IlluminanceCache {
 
  private:
   struct Node {
+    Node(const Vec3& lo_corner, double side_length) : lo(lo_corner), side(side_length) {}
     Vec3 lo;
     double side;
     std::array<int, 8> child{-1, -1, -1, -1, -1, -1, -1, -1};

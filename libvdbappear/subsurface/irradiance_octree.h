@@ -13,7 +13,7 @@
 
 namespace vdbappear {
 
-class RgbDipole;
+struct RgbDipole;
 
 // One irradiance sample of pass 1: a face centroid, its face's area and the Fresnel-transmitted
 // irradiance E^ there (docs/subsurface.md §2), and the face itself, over which the sum integrates

@@ -17,6 +17,10 @@ struct Chi2Options {
   std::uint64_t seed = 1;
   double significance = 0.01;       // before the Sidak correction for the number of tests
   int test_count = 1;               // tests in the suite, for the Sidak correction
+  // A sampler that may fail (a BRDF's reflection below the horizon) returns a non-unit vector; its
+  // pdf then integrates to 1 - P(failure). With absorbed_samples, the failed fraction must match
+  // 1 - the pdf's integral to within five standard errors; without, no sample may fail.
+  bool absorbed_samples = false;
 };
 
 struct Chi2Result {

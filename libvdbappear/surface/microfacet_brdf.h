@@ -1,0 +1,43 @@
+#pragma once
+// The isotropic base micro-BRDF f of the displacement chapter (shared/papers/002_6a636dc24396287c.txt,
+// §4.3): a Lambertian term plus a microfacet specular term with Schlick's Fresnel,
+//   f(wo, wi) = diffuse / pi + F(<wo, h>) D(h) G2(wo, wi) / (4 cos theta_o cos theta_i),
+// h = (wo + wi) / |wo + wi|, in the local frame of the surface (n = +z), both directions pointing away.
+
+#include "libvdbappear/math/rgb.h"
+#include "libvdbappear/surface/microfacet_distribution.h"
+
+namespace vdbappear {
+
+struct BrdfSample {
+  Vec3 wi;
+  Rgb weight = Rgb::Zero();  // f(wo, wi) cos theta_i / pdf; zero when the sample left the hemisphere
+  double pdf = 0;
+};
+
+class MicrofacetBrdf {
+ public:
+  // specular: F0, the reflectance at normal incidence; diffuse: the Lambertian albedo. Both in [0, 1].
+  MicrofacetBrdf(const MicrofacetDistribution& distribution, const Rgb& specular, const Rgb& diffuse);
+
+  const MicrofacetDistribution& distribution() const { return distribution_; }
+  const Rgb& specular() const { return specular_; }
+  const Rgb& diffuse() const { return diffuse_; }
+
+  Rgb eval(const Vec3& wo, const Vec3& wi) const;
+  // One lobe is chosen with the probability specularProbability(), then wi from it: the specular
+  // lobe reflects wo about distribution().sampleNormal(wo), the diffuse lobe is cosine-weighted.
+  BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
+  double pdf(const Vec3& wo, const Vec3& wi) const;  // the mixture's solid-angle density of wi
+  double specularProbability() const { return specular_probability_; }
+
+ private:
+  MicrofacetDistribution distribution_;
+  Rgb specular_, diffuse_;
+  double specular_probability_;
+};
+
+// Schlick's approximation, F0 + (1 - F0)(1 - cos)^5.
+Rgb schlickFresnel(const Rgb& f0, double cos_theta);
+
+}  // namespace vdbappear
