@@ -147,7 +147,7 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
   }
   if (!f.translucent_meshes.empty()) {
     const TranslucentMaterial material = translucentOf(app, f);
-    for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), material});
+    for (const std::string& mesh : f.translucent_meshes) scene.meshes.push_back({mesh, Rgb::Constant(0.5), std::nullopt, material});
   }
   if (app.count("--sss-spacing")) scene.subsurface.sample_spacing = f.sss_spacing;
   if (app.count("--sss-solid-angle")) scene.subsurface.max_solid_angle = f.sss_solid_angle;

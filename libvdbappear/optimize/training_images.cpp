@@ -12,7 +12,7 @@ namespace {
 RenderScene sceneOf(std::shared_ptr<const MediumView> medium, const TrainingConfig& config) {
   SceneDescription description;
   description.lights = config.lighting.lights;
-  if (config.lighting.ground) description.ground = GroundDescription{config.ground_height, Rgb::Constant(0.5)};
+  if (config.lighting.ground) description.ground = GroundDescription{config.ground_height, Rgb::Constant(0.5), std::nullopt};
   return buildRenderScene(description, std::move(medium), [](const std::string& file) -> RgbImage {
     throw std::runtime_error("training lights read no images (" + file + ")");
   });

@@ -6,6 +6,7 @@
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
+#include "libvdbappear/surface/microfacet_brdf.h"
 
 #include <memory>
 #include <vector>
@@ -22,6 +23,7 @@ struct RenderScene {
   std::shared_ptr<const LobeWeightScales> lobe_scales;
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
+  std::vector<MicrofacetBrdf> brdfs;             // of the glossy surfaces; SurfaceHit::brdf indexes this
   // Closed meshes whose light leaves by the dipole (subsurface/); SurfaceHit::translucent indexes this.
   std::vector<std::shared_ptr<TranslucentObject>> translucent;  // read-only while rendering
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)

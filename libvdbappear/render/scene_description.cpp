@@ -112,6 +112,45 @@ json checkedLight(json light, const std::string& folder, const std::string& sour
   return light;
 }
 
+MicrofacetBrdf brdfOf(const json& b, const std::string& source, const std::string& where) {
+  checkKeys(b, {"distribution", "roughness", "specular", "diffuse"}, source, where);
+  try {
+    const MicrofacetKind kind =
+        b.contains("distribution") ? parseMicrofacetKind(b["distribution"].get<std::string>()) : MicrofacetKind::GGX;
+    const double alpha = b.contains("roughness") ? numberOf<double>(b["roughness"], source, where + ".roughness") : 0.3;
+    const Rgb specular = b.contains("specular") ? rgbOf(b["specular"], source, where + ".specular") : Rgb::Constant(0.04);
+    const Rgb diffuse = b.contains("diffuse") ? rgbOf(b["diffuse"], source, where + ".diffuse") : Rgb::Zero();
+    return MicrofacetBrdf(MicrofacetDistribution(kind, alpha), specular, diffuse);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("{}: {}: {}", source, where, e.what()));
+  } catch (const json::exception& e) {
+    throw std::runtime_error(fmt::format("{}: {}: {}", source, where, e.what()));
+  }
+}
+
+HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
+                                     const std::string& where) {
+  checkKeys(h, {"file", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
+  if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\"");
+  HeightFieldDescription field;
+  field.file = resolve(folder, h["file"].get<std::string>());
+  if (h.contains("size")) field.size = numberOf<double>(h["size"], source, where + ".size");
+  if (!(field.size > 0) || !std::isfinite(field.size)) fail(source, where + ".size", "must be positive");
+  if (h.contains("origin")) field.placement.origin = vec3Of(h["origin"], source, where + ".origin");
+  if (h.contains("height_scale"))
+    field.placement.height_scale = numberOf<double>(h["height_scale"], source, where + ".height_scale");
+  if (h.contains("tiles")) {
+    const json& t = h["tiles"];
+    if (!t.is_array() || t.size() != 2) fail(source, where + ".tiles", "expected [nx, ny]");
+    field.placement.tiles_x = numberOf<int>(t[0], source, where + ".tiles");
+    field.placement.tiles_y = numberOf<int>(t[1], source, where + ".tiles");
+    if (field.placement.tiles_x < 1 || field.placement.tiles_y < 1) fail(source, where + ".tiles", "must be >= 1");
+  }
+  if (h.contains("albedo")) field.albedo = rgbOf(h["albedo"], source, where + ".albedo");
+  if (h.contains("brdf")) field.brdf = brdfOf(h["brdf"], source, where + ".brdf");
+  return field;
+}
+
 TranslucentMaterial translucentOf(const json& t, const std::string& source, const std::string& where) {
   checkKeys(t, {"density", "albedo", "g", "eta"}, source, where);
   TranslucentMaterial material;
@@ -165,7 +204,7 @@ void applySubsurface(const json& settings, const std::string& source, Subsurface
 
 void applySceneJson(const json& json, const std::string& folder, const std::string& source, SceneDescription* scene) {
   checkKeys(json, {"medium", "resolution", "spp", "time", "seed", "max_depth", "interp", "strategy", "camera",
-                   "lights", "ground", "meshes", "subsurface"},
+                   "lights", "ground", "meshes", "height_fields", "subsurface"},
             source, "");
   if (json.contains("medium")) scene->medium = resolve(folder, json["medium"].get<std::string>());
   if (json.contains("resolution")) {
@@ -203,11 +242,11 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
       scene->lights.push_back(checkedLight(json["lights"][i], folder, source, fmt::format("lights[{}]", i)));
   }
   if (json.contains("ground")) {
-    checkKeys(json["ground"], {"height", "albedo"}, source, "ground");
-    GroundDescription ground;
+    checkKeys(json["ground"], {"height", "albedo", "brdf"}, source, "ground");
+    GroundDescription& ground = scene->ground.emplace();  // a failure below ends the whole read
     if (json["ground"].contains("height")) ground.height = numberOf<double>(json["ground"]["height"], source, "ground.height");
     if (json["ground"].contains("albedo")) ground.albedo = rgbOf(json["ground"]["albedo"], source, "ground.albedo");
-    scene->ground = ground;
+    if (json["ground"].contains("brdf")) ground.brdf = brdfOf(json["ground"]["brdf"], source, "ground.brdf");
   }
   if (json.contains("subsurface")) applySubsurface(json["subsurface"], source, &scene->subsurface);
   if (json.contains("meshes")) {
@@ -215,14 +254,21 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     for (std::size_t i = 0; i < json["meshes"].size(); ++i) {
       const auto& m = json["meshes"][i];
       const std::string where = fmt::format("meshes[{}]", i);
-      checkKeys(m, {"file", "albedo", "translucent"}, source, where);
+      checkKeys(m, {"file", "albedo", "brdf", "translucent"}, source, where);
       if (!m.contains("file")) fail(source, where, "a mesh needs a \"file\"");
       MeshDescription mesh;
       mesh.file = resolve(folder, m["file"].get<std::string>());
       if (m.contains("albedo")) mesh.albedo = rgbOf(m["albedo"], source, where + ".albedo");
+      if (m.contains("brdf")) mesh.brdf = brdfOf(m["brdf"], source, where + ".brdf");
       if (m.contains("translucent")) mesh.translucent = translucentOf(m["translucent"], source, where + ".translucent");
       scene->meshes.push_back(mesh);
     }
+  }
+  if (json.contains("height_fields")) {
+    if (!json["height_fields"].is_array()) fail(source, "height_fields", "expected an array");
+    for (std::size_t i = 0; i < json["height_fields"].size(); ++i)
+      scene->height_fields.push_back(
+          heightFieldOf(json["height_fields"][i], folder, source, fmt::format("height_fields[{}]", i)));
   }
 }
 
@@ -304,6 +350,20 @@ std::vector<Triangle> groundPlane(double height, const Aabb& around) {
   return {{a, b, d}, {a, d, e}};  // counter-clockwise seen from +z: normal +z
 }
 
+// A diffuse surface, or a glossy one with its BRDF appended to the scene's.
+void addOpaque(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::optional<MicrofacetBrdf>& brdf,
+               RenderScene* scene) {
+  if (!brdf) return scene->surfaces->addDiffuse(triangles, albedo);
+  scene->brdfs.push_back(*brdf);
+  scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1));
+}
+
+HeightField readHeightField(const HeightFieldDescription& field, const ImageReader& read_image) {
+  if (!read_image) throw std::runtime_error(field.file + ": no image reader for height fields");
+  const RgbImage image = read_image(field.file);
+  return heightFieldFromImage(image, field.size / std::max(1, image.width - 1), field.file);
+}
+
 // Pass 1 of a translucent object: irradiance samples at the centroids of its faces, split to the
 // sample spacing, lit by the scene built so far (docs/subsurface.md §2).
 std::shared_ptr<TranslucentObject> translucentObject(const std::string& file, const TranslucentMaterial& material,
@@ -354,16 +414,22 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) everything.extend(v);
     if (!mesh.translucent) {
-      scene.surfaces->addDiffuse(triangles, mesh.albedo);
+      addOpaque(triangles, mesh.albedo, mesh.brdf, &scene);
       continue;
     }
     triangles = outwardClosedMesh(std::move(triangles), mesh.file);
     scene.surfaces->addTranslucent(triangles, int(translucent.size()));
     translucent.emplace_back(&mesh, std::move(triangles));
   }
+  for (const HeightFieldDescription& field : description.height_fields) {
+    const std::vector<Triangle> triangles = heightFieldTriangles(readHeightField(field, read_image), field.placement);
+    for (const Triangle& t : triangles)
+      for (const Vec3& v : t) everything.extend(v);
+    addOpaque(triangles, field.albedo, field.brdf, &scene);
+  }
   if (description.ground) {
     const double height = description.ground->height.value_or(bounds.empty() ? 0.0 : bounds.lo.z());
-    scene.surfaces->addDiffuse(groundPlane(height, bounds), description.ground->albedo);
+    addOpaque(groundPlane(height, bounds), description.ground->albedo, description.ground->brdf, &scene);
   }
   scene.surfaces->commit();
   if (scene.surfaces->empty()) scene.surfaces.reset();

@@ -16,6 +16,8 @@
 #include "libvdbappear/render/camera.h"
 #include "libvdbappear/render/render_image.h"
 #include "libvdbappear/subsurface/translucent_object.h"
+#include "libvdbappear/surface/height_field_mesh.h"
+#include "libvdbappear/surface/microfacet_brdf.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,9 +28,13 @@
 
 namespace vdbappear {
 
+// "brdf": {"distribution": "ggx" | "beckmann", "roughness": ALPHA, "specular": F0 | [r,g,b],
+// "diffuse": A | [r,g,b]} makes a surface glossy (surface/microfacet_brdf.h; defaults ggx, 0.3,
+// 0.04, 0); without it a surface is Lambertian of its "albedo".
 struct MeshDescription {
   std::string file;
   Rgb albedo = Rgb::Constant(0.5);
+  std::optional<MicrofacetBrdf> brdf;
   // A closed mesh of a translucent interior (docs/subsurface.md) instead of a diffuse surface:
   // "translucent": {"density": D | [r,g,b], "albedo": A | [r,g,b], "g": G, "eta": ETA}.
   std::optional<TranslucentMaterial> translucent;
@@ -37,6 +43,18 @@ struct MeshDescription {
 struct GroundDescription {
   std::optional<double> height;  // z of the plane; default: the bottom of the medium's bounds
   Rgb albedo = Rgb::Constant(0.5);
+  std::optional<MicrofacetBrdf> brdf;
+};
+
+// "height_fields": [{"file": "bumps.exr", "size": S, "origin": [x,y,z], "height_scale": K,
+// "tiles": [nx, ny], "albedo" | "brdf"}]: a displacement map (first channel; docs/displacement.md)
+// as a surface facing +z, one tile S wide along x, tessellated at its full resolution.
+struct HeightFieldDescription {
+  std::string file;
+  double size = 1;
+  HeightFieldPlacement placement;
+  Rgb albedo = Rgb::Constant(0.5);
+  std::optional<MicrofacetBrdf> brdf;
 };
 
 struct SceneDescription {
@@ -50,6 +68,7 @@ struct SceneDescription {
   nlohmann::json lights = nlohmann::json::array();
   std::optional<GroundDescription> ground;
   std::vector<MeshDescription> meshes;
+  std::vector<HeightFieldDescription> height_fields;
   // "subsurface": {"sample_spacing", "max_solid_angle", "disk_radius", "light_samples", "cache_error",
   // "min_cache_radius", "max_cache_radius", "min_normal_cos"} (docs/subsurface.md §1).
   SubsurfaceSettings subsurface;

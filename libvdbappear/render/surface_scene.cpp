@@ -17,6 +17,7 @@ struct GeometryInfo {
   Rgb albedo = Rgb::Zero();
   int light = -1;
   int translucent = -1;
+  int brdf = -1;
   std::vector<Vec3> normals;  // per triangle
 };
 
@@ -69,15 +70,19 @@ SurfaceScene::~SurfaceScene() {
 }
 
 void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo) {
-  impl_->add(triangles, GeometryInfo{albedo, -1, -1, {}});
+  impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, {}});
+}
+
+void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, {}});
 }
 
 void SurfaceScene::addLight(const std::vector<Triangle>& triangles, int light_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, -1, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, -1, -1, {}});
 }
 
 void SurfaceScene::addTranslucent(const std::vector<Triangle>& triangles, int object_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, -1, {}});
 }
 
 void SurfaceScene::commit() {
@@ -117,7 +122,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   rtcIntersect1(impl_->scene, &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const GeometryInfo& info = impl_->geometries[hit.hit.geomID];
-  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent};
+  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const {

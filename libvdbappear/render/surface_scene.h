@@ -1,6 +1,7 @@
 #pragma once
-// Opaque surfaces, intersected through Embree 3: diffuse meshes (OBJ/PLY, the ground plane), the
-// triangles of area lights and translucent objects' meshes (subsurface/translucent_object.h).
+// Opaque surfaces, intersected through Embree 3: diffuse and glossy meshes (OBJ/PLY, height
+// fields, the ground plane), the triangles of area lights and translucent objects' meshes
+// (subsurface/translucent_object.h).
 // Embree stays behind the implementation.
 
 #include "libvdbappear/math/rgb.h"
@@ -18,6 +19,7 @@ struct SurfaceHit {
   Rgb albedo;         // diffuse reflectance (meshes)
   int light = -1;     // index of the area light hit, or -1
   int translucent = -1;  // index of the translucent object hit (RenderScene::translucent), or -1
+  int brdf = -1;         // index of a glossy mesh's microfacet BRDF (RenderScene::brdfs), or -1
 };
 
 class SurfaceScene {
@@ -28,6 +30,7 @@ class SurfaceScene {
   SurfaceScene& operator=(const SurfaceScene&) = delete;
 
   void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
+  void addGlossy(const std::vector<Triangle>& triangles, int brdf_index);
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // after the last add, before any query

@@ -36,7 +36,8 @@ VolumePathTracer::VolumePathTracer(const RenderScene& scene, const PathSettings&
   if (scene_.sh_lights) clamped_cosine_ = clampedCosineCoefficients(scene_.sh_lights->lmax());
 }
 
-// A scattering vertex: in the medium (scattering function) or on a diffuse surface.
+// A scattering vertex: in the medium (scattering function) or on a surface, diffuse or glossy
+// (a microfacet BRDF in the frame of the geometric normal, surface/microfacet_brdf.h).
 struct VolumePathTracer::Vertex {
   Vec3 p;
   Vec3 wi;  // back along the incoming ray
@@ -44,20 +45,31 @@ struct VolumePathTracer::Vertex {
   ScatteringFunction medium;
   Vec3 normal;  // surfaces: facing wi
   Rgb albedo;
+  const MicrofacetBrdf* brdf = nullptr;  // glossy surfaces
+  Frame frame;                           // glossy surfaces: about normal
 
   Rgb eval(const Vec3& wo) const {
     if (!on_surface) return medium.eval(wi, wo);
-    return albedo * (std::max(0.0, normal.dot(wo)) / kPi);  // Lambertian f cos
+    const double cos_o = std::max(0.0, normal.dot(wo));
+    if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
+    return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
   Rgb eval(const Vec3& wo, Rgb* per_lobe) const { return on_surface ? eval(wo) : medium.evalLobes(wi, wo, per_lobe); }
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
-  double pdf(const Vec3& wo) const { return on_surface ? cosineHemispherePdf(normal.dot(wo)) : medium.pdf(wi, wo); }
+  double pdf(const Vec3& wo) const {
+    if (!on_surface) return medium.pdf(wi, wo);
+    return brdf ? brdf->pdf(frame.toLocal(wi), frame.toLocal(wo)) : cosineHemispherePdf(normal.dot(wo));
+  }
   // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
   ScatterSample sample(RandomStream& rng, Rgb* per_lobe = nullptr) const {
     const double u_lobe = rng.uniform();
     const Point2 u = rng.uniform2();
     if (!on_surface) return medium.sample(wi, u_lobe, u, per_lobe);
+    if (brdf) {
+      const BrdfSample s = brdf->sample(frame.toLocal(wi), u_lobe, u);
+      return {frame.toWorld(s.wi), s.pdf, s.weight};
+    }
     const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
     const double pdf = cosineHemispherePdf(normal.dot(wo));
     return {wo, pdf, pdf > 0 ? albedo : Rgb(Rgb::Zero())};
@@ -131,7 +143,7 @@ Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, Medi
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
   Rgb L;
   Vec3 shadow_direction = Vec3::Zero();
-  if (vertex.on_surface) {
+  if (vertex.on_surface && !vertex.brdf) {
     L = vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
   } else if (const std::optional<Rgb> closed_form = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
     L = *closed_form;
@@ -225,6 +237,8 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       vertex.normal = hit->normal.dot(ray.d) < 0 ? hit->normal : Vec3(-hit->normal);
       vertex.p = ray(hit->t) + eps * vertex.normal;
       vertex.albedo = hit->albedo;
+      vertex.brdf = hit->brdf >= 0 ? &scene_.brdfs[std::size_t(hit->brdf)] : nullptr;
+      if (vertex.brdf) vertex.frame = Frame::fromNormal(vertex.normal);
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);
       result.L += beta * escaped;

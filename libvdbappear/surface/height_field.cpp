@@ -37,7 +37,7 @@ void validateHeights(const HeightField& field, const std::string& source) {
   for (int j = 0; j < field.verticesY(); ++j)
     for (int i = 0; i < field.verticesX(); ++i)
       if (!std::isfinite(field.at(i, j)))
-        throw MediumError(source + ": height at pixel (" + std::to_string(i) + ", " + std::to_string(j) +
+        throw MediumError(source + ": height at vertex (" + std::to_string(i) + ", " + std::to_string(j) +
                           ") is not a finite number");
 }
 

@@ -43,7 +43,7 @@ class HeightField {
   std::vector<double> heights_;
 };
 
-// Throws MediumError naming `source` when a height is NaN or infinite.
+// Throws MediumError naming `source` and the vertex (i, j) when a height is NaN or infinite.
 void validateHeights(const HeightField& field, const std::string& source);
 
 }  // namespace vdbappear

@@ -34,7 +34,7 @@ class MicrofacetBrdf {
  private:
   MicrofacetDistribution distribution_;
   Rgb specular_, diffuse_;
-  double specular_probability_;
+  double specular_probability_ = 1;
 };
 
 // Schlick's approximation, F0 + (1 - F0)(1 - cos)^5.

@@ -165,6 +165,57 @@ struct BadInput {
   std::string name, args, message;
 };
 
+// A glossy ground and a height field from a scene file (docs/rendering.md, docs/displacement.md):
+// the flat map at height 0.25 under a straight-down sun is a Lambertian plane of its albedo; its bad
+// input (a negative roughness, an unknown BRDF key, NaN heights, a missing map) gets one line
+// naming the file and the key, and no output.
+TEST(RenderCli, GlossyGroundAndHeightFieldFromASceneFile) {
+  TempDir dir;
+  const std::string map = dir.path("map.exr"), nan_map = dir.path("nan.exr"), out = dir.path("out.exr");
+  ImageChannels heights;
+  heights.width = 5;
+  heights.height = 3;
+  heights.names = {"height"};
+  heights.values.assign(15, 0.25f);
+  writeExr(heights, map);
+  heights.values[7] = std::nanf("");
+  writeExr(heights, nan_map);
+  const auto write_scene = [&](const std::string& name, const std::string& extra) {
+    const std::string path = dir.path(name);
+    std::ofstream(path) << R"({"resolution": [6, 6], "spp": 4, "camera": {"position": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 10},
+      "lights": [{"type": "sun", "direction": [0, 0, -1], "strength": 3}],
+      "ground": {"height": -1, "brdf": {"distribution": "beckmann", "roughness": 0.2, "specular": 0.5}},
+      "height_fields": [{"file": "map.exr", "size": 4, "origin": [-2, -1, 0], "albedo": 0.6}])"
+                        << extra << "}";
+    return path;
+  };
+  ASSERT_EQ(runCommand(kRender + " --scene " + quote(write_scene("ok.json", "")) + " -o " + quote(out)).status, 0);
+  const ImageChannels image = readImageChannels(out);
+  const std::size_t stride = image.names.size(), red = std::size_t(image.find("R"));
+  for (std::size_t p = 0; p < std::size_t(image.width * image.height); ++p)
+    EXPECT_NEAR(image.values[p * stride + red], 0.6 * 3 / 3.14159265358979, 1e-3) << p;
+  std::filesystem::remove(out);
+
+  std::ofstream(dir.path("rough.json")) << R"({"ground": {"brdf": {"roughness": -1}}})";
+  std::ofstream(dir.path("key.json")) << R"({"ground": {"brdf": {"rougness": 0.1}}})";
+  std::ofstream(dir.path("nan.json")) << R"({"height_fields": [{"file": "nan.exr"}]})";
+  std::ofstream(dir.path("missing.json")) << R"({"height_fields": [{"file": "none.exr"}]})";
+  const std::vector<BadInput> cases{
+      {"negative roughness", "--scene " + quote(dir.path("rough.json")), "rough.json: ground.brdf: microfacet roughness must be positive"},
+      {"unknown BRDF key", "--scene " + quote(dir.path("key.json")), "key.json: ground.brdf.rougness: unknown key"},
+      {"NaN height", "--scene " + quote(dir.path("nan.json")), "nan.exr: height at pixel (column 2, row 1 from the top) is not a finite number"},
+      {"missing height map", "--scene " + quote(dir.path("missing.json")), "none.exr"},
+  };
+  for (const BadInput& c : cases) {
+    const auto r = runCommand(kRender + " " + kCube + " " + c.args + " -o " + quote(out));
+    EXPECT_NE(r.status, 0) << c.name;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": " << r.err;
+    EXPECT_FALSE(exists(out)) << c.name;
+  }
+}
+
+
 TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   TempDir dir;
   const std::string out = dir.path("out.exr");

@@ -4,6 +4,7 @@
 // sampling (the negative control), the mean height, and bad input.
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/surface/height_downsample.h"
+#include "libvdbappear/surface/height_field_mesh.h"
 #include "libvdbappear/util/error.h"
 
 #include "support/test_random.h"
@@ -12,6 +13,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -68,6 +70,46 @@ TEST(HeightField, CellSlopeIsTheMeanGradientOfTheBilinearCell) {
     }
   mean /= n * n;
   EXPECT_LT((f.cellSlope(0, 0) - mean).norm(), 1e-8);
+}
+
+// The renderer's triangles keep each cell's mean slope (Eq. 4.9): their edges are the cell's. The
+// mean of -n_xy / n_z over a cell's two triangles, weighted by their projected areas, is the slope.
+TEST(HeightField, TrianglesKeepEachCellsMeanSlopeAndFaceUp) {
+  const HeightField field = bumpy(16, 5);
+  HeightFieldPlacement placement;
+  placement.origin = Vec3(1, 2, 3);
+  placement.tiles_x = 2;
+  const std::vector<Triangle> triangles = heightFieldTriangles(field, placement);
+  ASSERT_EQ(triangles.size(), std::size_t(2 * 16 * 16 * 2));
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) {
+      Point2 sum = Point2::Zero();
+      double area = 0;
+      for (int k = 0; k < 2; ++k) {
+        const Triangle& t = triangles[std::size_t(2 * (j * 16 + i) + k)];
+        const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);  // twice the area, times the unit normal
+        ASSERT_GT(n.z(), 0);
+        sum += Point2(-n.x(), -n.y());  // slope times projected area (n.z / 2 each)
+        area += n.z();
+      }
+      EXPECT_LT((sum / area - field.cellSlope(i, j)).norm(), 1e-9) << i << ", " << j;
+    }
+  EXPECT_TRUE(triangles[0][0].isApprox(Vec3(1, 2, 3 + field.at(0, 0))));
+  EXPECT_TRUE(triangles[2 * 16 * 16][0].isApprox(Vec3(1 + 16 * field.cellSize(), 2, 3 + field.at(0, 0))));  // tile 2
+}
+
+TEST(HeightField, ImagesReadUprightAndRefuseNonFiniteHeights) {
+  RgbImage image(3, 2);
+  for (int r = 0; r < 2; ++r)
+    for (int c = 0; c < 3; ++c) image.at(c, r)[0] = float(10 * r + c);
+  const HeightField field = heightFieldFromImage(image, 0.5, "map.exr");
+  EXPECT_EQ(field.cellsX(), 2);
+  EXPECT_EQ(field.cellsY(), 1);
+  EXPECT_EQ(field.at(2, 1), 2.0);   // the top row is the far edge, y = 1 cell
+  EXPECT_EQ(field.at(2, 0), 12.0);
+  image.at(1, 1)[0] = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(heightFieldFromImage(image, 0.5, "map.exr"), MediumError);
+  EXPECT_THROW(heightFieldFromImage(RgbImage(1, 5), 0.5, "map.exr"), MediumError);
 }
 
 TEST(HeightDownsample, ReproducesAPlaneExactly) {
@@ -137,7 +179,7 @@ TEST(HeightDownsample, RefusesAFactorThatDoesNotDivideOrANegativeWeight) {
   EXPECT_NO_THROW(downsampleHeights(fine, {4, 0.01}));
 }
 
-TEST(HeightField, ValidationNamesTheFileAndThePixel) {
+TEST(HeightField, ValidationNamesTheFileAndTheVertex) {
   HeightField f(4, 4, 1);
   EXPECT_NO_THROW(validateHeights(f, "ok.exr"));
   f.at(2, 3) = std::nan("");
