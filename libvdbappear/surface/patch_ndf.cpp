@@ -1,0 +1,42 @@
+#include "libvdbappear/surface/patch_ndf.h"
+
+#include <stdexcept>
+
+namespace vdbappear {
+
+std::vector<Vec3> patchMicroNormals(const HeightField& field, int i0, int j0, int count, int points_per_side) {
+  if (count < 1 || points_per_side < 1 || i0 < 0 || j0 < 0 || i0 + count > field.cellsX() || j0 + count > field.cellsY())
+    throw std::invalid_argument("patchMicroNormals: the patch leaves the height field");
+  std::vector<Vec3> normals;
+  normals.reserve(std::size_t(count) * count * points_per_side * points_per_side);
+  const double L = field.cellSize();
+  for (int j = j0; j < j0 + count; ++j)
+    for (int i = i0; i < i0 + count; ++i) {
+      const double h00 = field.at(i, j), h10 = field.at(i + 1, j), h01 = field.at(i, j + 1), h11 = field.at(i + 1, j + 1);
+      for (int b = 0; b < points_per_side; ++b)
+        for (int a = 0; a < points_per_side; ++a) {
+          const double x = (a + 0.5) / points_per_side, y = (b + 0.5) / points_per_side;
+          // The gradient of the bilinear cell at (x, y), in world units.
+          const double dhdx = ((h10 - h00) * (1 - y) + (h11 - h01) * y) / L;
+          const double dhdy = ((h01 - h00) * (1 - x) + (h11 - h10) * x) / L;
+          normals.push_back(Vec3(-dhdx, -dhdy, 1).normalized());
+        }
+    }
+  return normals;
+}
+
+VmfMixture fitPatchNdf(const std::vector<Vec3>& micro_normals, const VmfFitSettings& settings) {
+  std::vector<double> weights;
+  weights.reserve(micro_normals.size());
+  double mass = 0;  // E_p[1 / cos theta_m] = int D dw
+  for (const Vec3& n : micro_normals) {
+    weights.push_back(1 / n.z());
+    mass += 1 / n.z();
+  }
+  mass /= double(micro_normals.size());
+  VmfMixture ndf = fitVmfMixture(micro_normals, weights, settings);
+  for (VmfLobe& lobe : ndf.lobes) lobe.amplitude *= mass;
+  return ndf;
+}
+
+}  // namespace vdbappear
