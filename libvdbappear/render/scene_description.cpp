@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -139,6 +140,7 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
   if (h.contains("origin")) field.placement.origin = vec3Of(h["origin"], source, where + ".origin");
   if (h.contains("height_scale"))
     field.placement.height_scale = numberOf<double>(h["height_scale"], source, where + ".height_scale");
+  if (!std::isfinite(field.placement.height_scale)) fail(source, where + ".height_scale", "must be finite");
   if (h.contains("tiles")) {
     const json& t = h["tiles"];
     if (!t.is_array() || t.size() != 2) fail(source, where + ".tiles", "expected [nx, ny]");
