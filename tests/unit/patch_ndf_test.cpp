@@ -3,6 +3,7 @@
 // and the six-lobe fit of a bumpy patch against the histogram of its micro-normals, with one lobe
 // as the negative control.
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
 
 #include "support/chi2_test.h"
@@ -140,6 +141,41 @@ TEST(PatchNdf, FlatPatchIsOneNarrowLobeAlongTheNormal) {
     amplitude += lobe.amplitude;
   }
   EXPECT_NEAR(amplitude, std::sqrt(1.25), 1e-9);  // int D dw = 1 / cos theta_m
+}
+
+// Eq. (4.5) for the NDF of a tilted plane, D = delta(w - mu) / cos theta_mu (a narrow lobe of that
+// mass): rho(wi, wo) = f(R_mu wi, R_mu wo) <mu, wi> / (cos theta_i cos theta_mu). For mu = +z it is f.
+TEST(MultiLobeBrdf, NarrowLobeIsTheBaseBrdfSeenThroughItsNormal) {
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.3), Rgb(0.9, 0.6, 0.3), Rgb(0.1, 0.2, 0.3));
+  test::TestRandom random(12);
+  for (const Vec3& mu : {Vec3(0, 0, 1), Vec3(0.3, -0.2, 1).normalized()}) {
+    VmfMixture ndf;
+    ndf.lobes.push_back({1 / mu.z(), 1e7, mu});
+    const MultiLobeBrdf rho(ndf, base, 4);
+    const Frame frame = Frame::fromNormal(mu);
+    for (int trial = 0; trial < 50; ++trial) {
+      Vec3 wi = random.direction(), wo = random.direction();
+      wi.z() = std::abs(wi.z()) + 0.2;
+      wo.z() = std::abs(wo.z()) + 0.2;
+      wi.normalize();
+      wo.normalize();
+      const Rgb expected = base.eval(frame.toLocal(wo), frame.toLocal(wi)) * std::max(0.0, mu.dot(wi)) / (wi.z() * mu.z());
+      EXPECT_LT((rho.eval(wi, wo) - expected).abs().maxCoeff(), 2e-3 * (expected.maxCoeff() + 0.01)) << mu.transpose();
+    }
+  }
+}
+
+// A Lambertian base seen along the macro-normal: rho(z, z) = kd / pi int <w, z> D(w) dw = kd / pi
+// by Eq. (4.3), for the fitted NDF of a bumpy patch (to the fit's projected area and the micro-normals
+// whose horizon hides z, none here). Without D's mass E[1 / cos theta_m] in the amplitudes (a few
+// percent on such patches) it fails.
+TEST(MultiLobeBrdf, LambertianBaseKeepsItsAlbedoThroughAFittedNdf) {
+  const HeightField field = bumpyField(64, 9);
+  const VmfMixture ndf = fitPatchNdf(patchMicroNormals(field, 16, 16, 32, 4), {});
+  const MicrofacetBrdf lambert(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb::Zero(), Rgb(0.5, 0.7, 0.9));
+  const MultiLobeBrdf rho(ndf, lambert, 32);
+  const Rgb value = rho.eval(Vec3(0, 0, 1), Vec3(0, 0, 1));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], lambert.diffuse()[c] / kPi, 0.005 * lambert.diffuse()[c] / kPi);
 }
 
 TEST(PatchNdf, RefusesAPatchOutsideTheField) {
