@@ -1,0 +1,71 @@
+#include "libvdbappear/prefilter/effective_brdf.h"
+
+#include "libvdbappear/math/random_stream.h"
+#include "libvdbappear/render/surface_scene.h"
+#include "libvdbappear/surface/height_field_mesh.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace vdbappear {
+
+MicroGeometry::MicroGeometry(const HeightField& field) : field_(field), scene_(std::make_unique<SurfaceScene>()) {
+  scene_->addDiffuse(heightFieldTriangles(field_, {}), Rgb::Zero());
+  scene_->commit();
+}
+
+MicroGeometry::~MicroGeometry() = default;
+
+MicroGeometry::Point MicroGeometry::at(double u, double v) const {
+  const int i = std::clamp(int(u), 0, field_.cellsX() - 1), j = std::clamp(int(v), 0, field_.cellsY() - 1);
+  const double x = u - i, y = v - j, s = field_.cellSize();
+  const Vec3 p00(i * s, j * s, field_.at(i, j)), p10((i + 1) * s, j * s, field_.at(i + 1, j));
+  const Vec3 p11((i + 1) * s, (j + 1) * s, field_.at(i + 1, j + 1)), p01(i * s, (j + 1) * s, field_.at(i, j + 1));
+  // The cell's triangles are {p00, p10, p11} (x >= y) and {p00, p11, p01} (heightFieldTriangles).
+  const Vec3 a = p00, b = x >= y ? p10 : p11, c = x >= y ? p11 : p01;
+  const Vec3 normal = (b - a).cross(c - a).normalized();
+  const Vec3 base(u * s, v * s, 0);
+  // The height above base on the triangle's plane: normal . (x - a) = 0.
+  const double z = a.z() - (normal.x() * (base.x() - a.x()) + normal.y() * (base.y() - a.y())) / normal.z();
+  return {Vec3(base.x(), base.y(), z), normal};
+}
+
+bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
+  const double eps = 1e-6 * std::max(1.0, field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
+  return !scene_->occluded(p.x + eps * p.normal, w, eps, 1e30);
+}
+
+EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
+                            const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings) {
+  const HeightField& field = geometry.field();
+  if (count < 1 || i0 < 0 || j0 < 0 || i0 + count > field.cellsX() || j0 + count > field.cellsY() ||
+      settings.samples_per_side < 1)
+    throw std::invalid_argument("effectiveBrdf: the patch leaves the height field, or no samples");
+  RandomStream rng(settings.seed, {i0, j0, count});
+  const int n = settings.samples_per_side;
+  Rgb numerator = Rgb::Zero();
+  double area = 0;
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a < n; ++a) {
+      const Point2 jitter = rng.uniform2();
+      const MicroGeometry::Point p =
+          geometry.at(i0 + count * (a + jitter.x()) / n, j0 + count * (b + jitter.y()) / n);
+      // A_G(p, wo) of Eq. (4.7): <wo, w_m> / <w_g, w_m> V(x, wo).
+      const double cos_o = p.normal.dot(wo);
+      if (cos_o <= 0 || (settings.visibility && !geometry.unoccluded(p, wo))) continue;
+      const double A = cos_o / p.normal.z();
+      area += A;
+      const double cos_i = p.normal.dot(wi);
+      if (cos_i <= 0 || (settings.visibility && !geometry.unoccluded(p, wi))) continue;
+      numerator += f(p.x, p.normal, wi, wo) * (cos_i * A);
+    }
+  EffectiveBrdf result;
+  result.visible_area = area / (double(n) * n);
+  if (area > 0) result.value = numerator / area;
+  return result;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,62 @@
+#pragma once
+// The effective BRDF of a surface patch, Eq. (4.6)-(4.8) of the displacement chapter
+// (shared/papers/002_6a636dc24396287c.txt, §4.3): the average over the patch of the micro-BRDF
+// times <w_m, wi> and the visibility toward the light, weighted by the visible projected area
+// toward the viewer. The single-bounce form, from which the scaling function R of Eq. (4.12) is
+// the ratio of the original's to the prefiltered model's.
+
+#include "libvdbappear/math/rgb.h"
+#include "libvdbappear/surface/height_field.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+namespace vdbappear {
+
+class SurfaceScene;
+
+// A height field as the renderer sees it (two triangles per cell, surface/height_field_mesh.h):
+// points and normals above base positions, and visibility along rays (Embree).
+class MicroGeometry {
+ public:
+  explicit MicroGeometry(const HeightField& field);
+  ~MicroGeometry();
+  MicroGeometry(const MicroGeometry&) = delete;
+  MicroGeometry& operator=(const MicroGeometry&) = delete;
+
+  struct Point {
+    Vec3 x;       // on the surface
+    Vec3 normal;  // of its triangle, facing +z
+  };
+  // The surface above base position (u, v), in cell units (0 <= u <= cells x, 0 <= v <= cells y).
+  Point at(double u, double v) const;
+  // Whether w leaves the point without meeting the surface again (rays beyond the field escape).
+  bool unoccluded(const Point& p, const Vec3& w) const;
+  const HeightField& field() const { return field_; }
+
+ private:
+  HeightField field_;
+  std::unique_ptr<SurfaceScene> scene_;
+};
+
+// f(point, normal, wi, wo), the BRDF at a micro-surface point; directions in the base frame.
+using PatchBrdf = std::function<Rgb(const Vec3& x, const Vec3& normal, const Vec3& wi, const Vec3& wo)>;
+
+struct EffectiveBrdfSettings {
+  int samples_per_side = 50;  // stratified base positions: 2500, the chapter's paths per estimate (§4.7.1)
+  std::uint64_t seed = 1;     // the jitter's stream, keyed by the patch
+  bool visibility = true;     // V of Eq. (4.6)-(4.7); off only as a negative control in tests
+};
+
+struct EffectiveBrdf {
+  Rgb value = Rgb::Zero();   // f_eff(wi, wo) of Eq. (4.6)
+  double visible_area = 0;   // A_G(wo) of Eq. (4.8), estimated from the same samples
+};
+
+// Over the count x count cells from cell (i0, j0): the estimate of Eq. (4.6), the ratio of the
+// integral of f <w_m, wi> V(wi) A_G(p, wo) to that of A_G(p, wo) over base positions p.
+EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
+                            const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings);
+
+}  // namespace vdbappear
