@@ -7,7 +7,7 @@
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
 
-#include "support/test_random.h"
+#include "support/height_fields.h"
 
 #include <gtest/gtest.h>
 
@@ -50,21 +50,9 @@ TEST(EffectiveBrdf, FlatSurfaceHasScalingOne) {
   }
 }
 
+// Slopes near 1 (RMS about 0.9): sinusoids of periods 5 to 30 cells.
 HeightField bumpy(int cells, std::uint64_t seed) {
-  test::TestRandom random(seed);
-  HeightField field(cells, cells, 0.01);
-  std::vector<std::array<double, 4>> waves;
-  for (double period : {30.0, 17.0, 9.0, 5.0}) {
-    const double angle = 2 * kPi * random.uniform(), k = 2 * kPi / (period * 0.01);
-    waves.push_back({k * std::cos(angle), k * std::sin(angle), 2 * kPi * random.uniform(), 0.01 * period / 10});
-  }
-  for (int j = 0; j <= cells; ++j)
-    for (int i = 0; i <= cells; ++i) {
-      double h = 0;
-      for (const auto& w : waves) h += w[3] * std::sin(w[0] * i * 0.01 + w[1] * j * 0.01 + w[2]);
-      field.at(i, j) = h;
-    }
-  return field;
+  return test::sinusoidHeightField(cells, 0.01, {30.0, 17.0, 9.0, 5.0}, 0.001, seed);
 }
 
 // Eq. (4.8): the visible projected area of a patch toward wo is that of its meso-scale surface,

@@ -7,6 +7,7 @@
 #include "libvdbappear/surface/height_field_mesh.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/height_fields.h"
 #include "support/test_random.h"
 
 #include <gtest/gtest.h>
@@ -28,20 +29,7 @@ HeightField sampled(int cells, double cell_size, const std::function<double(doub
 
 // A bumpy map: sinusoids from 64 down to 3 fine cells of period, with random phases and directions.
 HeightField bumpy(int cells, std::uint64_t seed) {
-  test::TestRandom random(seed);
-  struct Wave {
-    double kx, ky, phase, amplitude;
-  };
-  std::vector<Wave> waves;
-  for (double period : {64.0, 37.0, 23.0, 13.0, 7.0, 4.5, 3.0}) {
-    const double angle = 2 * kPi * random.uniform(), k = 2 * kPi / (period * 0.01);
-    waves.push_back({k * std::cos(angle), k * std::sin(angle), 2 * kPi * random.uniform(), 0.002 * period / 10});
-  }
-  return sampled(cells, 0.01, [&](double x, double y) {
-    double h = 0;
-    for (const Wave& w : waves) h += w.amplitude * std::sin(w.kx * x + w.ky * y + w.phase);
-    return h;
-  });
+  return test::sinusoidHeightField(cells, 0.01, {64.0, 37.0, 23.0, 13.0, 7.0, 4.5, 3.0}, 0.0002, seed);
 }
 
 // The RMS over the coarse cells of the original's mean slopes s~*_uv (Eq. 4.1): the scale of the errors.

@@ -7,6 +7,7 @@
 #include "libvdbappear/surface/patch_ndf.h"
 
 #include "support/chi2_test.h"
+#include "support/height_fields.h"
 #include "support/sphere_quadrature.h"
 #include "support/test_random.h"
 
@@ -63,23 +64,7 @@ TEST(Vmf, FitRecoversAKnownMixture) {
 
 // A bumpy height field: sinusoids of periods 5 to 40 cells with random phases and directions.
 HeightField bumpyField(int cells, std::uint64_t seed) {
-  test::TestRandom random(seed);
-  HeightField field(cells, cells, 0.01);
-  struct Wave {
-    double kx, ky, phase, amplitude;
-  };
-  std::vector<Wave> waves;
-  for (double period : {40.0, 23.0, 11.0, 5.0}) {
-    const double angle = 2 * kPi * random.uniform(), k = 2 * kPi / (period * 0.01);
-    waves.push_back({k * std::cos(angle), k * std::sin(angle), 2 * kPi * random.uniform(), 0.0015 * period / 10});
-  }
-  for (int j = 0; j <= cells; ++j)
-    for (int i = 0; i <= cells; ++i) {
-      double h = 0;
-      for (const Wave& w : waves) h += w.amplitude * std::sin(w.kx * i * 0.01 + w.ky * j * 0.01 + w.phase);
-      field.at(i, j) = h;
-    }
-  return field;
+  return test::sinusoidHeightField(cells, 0.01, {40.0, 23.0, 11.0, 5.0}, 0.00015, seed);
 }
 
 // Total variation between the micro-normals' histogram (its bins hold int_bin D cos theta dw,
