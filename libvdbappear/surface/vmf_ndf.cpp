@@ -31,14 +31,14 @@ double VmfMixture::operator()(const Vec3& w) const {
 
 namespace {
 
-// Banerjee et al. 2005, Eq. (4.4) of theirs: kappa from the mean resultant length R in 3-D.
+// Banerjee et al. 2005's approximation of kappa from the mean resultant length R, in 3-D.
 double kappaOf(double R, double max_kappa) {
   if (R >= 1 - 1e-12) return max_kappa;
   return std::min(max_kappa, R * (3 - R * R) / (1 - R * R));
 }
 
-// One M-step from responsibilities: amplitudes, directions and bandwidths. False when a lobe lost
-// all its weight (it is then dropped).
+// One M-step from responsibilities: amplitudes, directions and bandwidths. A lobe that lost all its
+// weight is dropped.
 std::vector<VmfLobe> maximise(const std::vector<Vec3>& d, const std::vector<double>& w,
                               const std::vector<std::vector<double>>& responsibility, double total, double max_kappa) {
   std::vector<VmfLobe> lobes;
