@@ -3,6 +3,7 @@
 // Eq. (4.8) on a bumpy patch, and the negative control that without visibility it is too large.
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/prefilter/effective_brdf.h"
+#include "libvdbappear/prefilter/scaling_function.h"
 #include "libvdbappear/surface/height_downsample.h"
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
@@ -76,6 +77,37 @@ TEST(EffectiveBrdf, VisibleProjectedAreaIsTheMesoSurfaces) {
     settings.visibility = true;
     // Measured: 1, 0.7051 and 0.3396 against 1, 0.7047 and 0.3388; unmasked 0.7293 and 0.4945.
     if (theta == 70.0) EXPECT_GT(unmasked, 1.2 * expected);
+  }
+}
+
+// R of Eq. (4.12) on a rough map, over the 4 x 4 interior coarse cells: the multi-lobe f'_low on
+// h_low knows nothing of the micro-geometry's shadowing and masking, so the prefiltered model is too
+// bright (R < 1, the naive look of Fig. 4.2(d)), the more so toward grazing.
+TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
+  const HeightField fine = bumpy(96, 3);
+  const HeightField low = downsampleHeights(fine, {16, 0.01});
+  const MicroGeometry original(fine), prefiltered(low);
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
+  const PatchPair patches{original, prefiltered, 16};
+  double previous = 1;
+  for (double theta : {5.0, 45.0, 65.0}) {
+    double orig = 0, pref = 0;
+    for (int v = 1; v <= 4; ++v)
+      for (int u = 1; u <= 4; ++u) {
+        const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, u * 16, v * 16, 16, 2), {}), base, 6);
+        const PatchBrdf low_brdf = [&](const Vec3&, const Vec3&, const Vec3& i, const Vec3& o) { return f_low.eval(i, o); };
+        const Vec3 wi = direction(theta, 0), wo = direction(theta, 180);
+        const double o = effectiveBrdf(original, u * 16, v * 16, 16, microBrdf(base), wi, wo, {}).value[0];
+        const double p = effectiveBrdf(prefiltered, u, v, 1, low_brdf, wi, wo, {}).value[0];
+        if (u == 1 && v == 1)
+          EXPECT_DOUBLE_EQ(scalingFactor(patches, u, v, microBrdf(base), low_brdf, wi, wo, {})[0], o / (p + 1e-6));
+        orig += o;
+        pref += p;
+      }
+    // Measured: 0.83, 0.63 and 0.45 at 5, 45 and 65 degrees.
+    const double R = orig / pref;
+    EXPECT_LT(R, 0.95 * previous) << "theta " << theta;
+    previous = R;
   }
 }
 
