@@ -21,12 +21,10 @@ MicroGeometry::~MicroGeometry() = default;
 
 MicroGeometry::Point MicroGeometry::at(double u, double v) const {
   const int i = std::clamp(int(u), 0, field_.cellsX() - 1), j = std::clamp(int(v), 0, field_.cellsY() - 1);
-  const double x = u - i, y = v - j, s = field_.cellSize();
-  const Vec3 p00(i * s, j * s, field_.at(i, j)), p10((i + 1) * s, j * s, field_.at(i + 1, j));
-  const Vec3 p11((i + 1) * s, (j + 1) * s, field_.at(i + 1, j + 1)), p01(i * s, (j + 1) * s, field_.at(i, j + 1));
-  // The cell's triangles are {p00, p10, p11} (x >= y) and {p00, p11, p01} (heightFieldTriangles).
-  const Vec3 a = p00, b = x >= y ? p10 : p11, c = x >= y ? p11 : p01;
-  const Vec3 normal = (b - a).cross(c - a).normalized();
+  const double s = field_.cellSize();
+  Triangle t = cellTriangles(field_, i, j)[u - i >= v - j ? 0 : 1];  // the triangle above (u, v)
+  for (Vec3& vertex : t) vertex = Vec3(vertex.x() * s, vertex.y() * s, vertex.z());  // as heightFieldTriangles
+  const Vec3 a = t[0], normal = (t[1] - a).cross(t[2] - a).normalized();
   const Vec3 base(u * s, v * s, 0);
   // The height above base on the triangle's plane: normal . (x - a) = 0.
   const double z = a.z() - (normal.x() * (base.x() - a.x()) + normal.y() * (base.y() - a.y())) / normal.z();

@@ -14,9 +14,9 @@ HeightField::HeightField(int cells_x, int cells_y, double cell_size)
   heights_.assign(static_cast<std::size_t>(cells_x + 1) * (cells_y + 1), 0.0);
 }
 
-Point2 HeightField::cellSlope(int i, int j) const {
+Point2 HeightField::gradient(int i, int j, double x, double y) const {
   const double h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
-  return Point2(h11 + h10 - h01 - h00, h11 + h01 - h10 - h00) / (2 * cell_size_);
+  return Point2((h10 - h00) * (1 - y) + (h11 - h01) * y, (h01 - h00) * (1 - x) + (h11 - h10) * x) / cell_size_;
 }
 
 Point2 HeightField::averageSlope(int i0, int j0, int count) const {

@@ -26,9 +26,11 @@ class HeightField {
   double& at(int i, int j) { return heights_[index(i, j)]; }
   const std::vector<double>& heights() const { return heights_; }
 
+  // (dh/dx, dh/dy) of the bilinear cell (i, j) at (x, y) in [0, 1]^2 within it, in world units.
+  Point2 gradient(int i, int j, double x, double y) const;
   // The average slope of the bilinear cell (i, j), Eq. (4.9) divided by the cell size:
-  // ((h11 + h10 - h01 - h00) / 2, (h11 + h01 - h10 - h00) / 2) / cell_size.
-  Point2 cellSlope(int i, int j) const;
+  // ((h11 + h10 - h01 - h00) / 2, (h11 + h01 - h10 - h00) / 2) / cell_size, the gradient at its centre.
+  Point2 cellSlope(int i, int j) const { return gradient(i, j, 0.5, 0.5); }
   // Eq. (4.1) with a box kernel: the mean micro-slope (dh/dx, dh/dy) over the count x count cells
   // whose first cell is (i0, j0) (the mean of their cells' slopes, the cells being equal in area).
   Point2 averageSlope(int i0, int j0, int count) const;

@@ -7,6 +7,7 @@
 #include "libvdbappear/math/triangle.h"
 #include "libvdbappear/surface/height_field.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,11 @@ struct HeightFieldPlacement {
   double height_scale = 1;     // world units per unit of the map
   int tiles_x = 1, tiles_y = 1;  // copies side by side along +x and +y (seamless when the edges match)
 };
+
+// The two triangles of cell (i, j) in cell units, vertex (i, j) at (i, j, h(i, j)) (exact integers,
+// so that neighbouring cells and tiles share their vertices bit for bit once scaled):
+// {p00, p10, p11} where x >= y within the cell, {p00, p11, p01} where x < y; both face +z.
+std::array<Triangle, 2> cellTriangles(const HeightField& field, int i, int j);
 
 // Vertex (i, j) of tile (a, b) at origin + ((a n + i) s, (b m + j) s, height_scale h(i, j)),
 // s the cell size; the triangles face +z (counter-clockwise seen from above).

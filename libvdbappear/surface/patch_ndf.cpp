@@ -9,19 +9,13 @@ std::vector<Vec3> patchMicroNormals(const HeightField& field, int i0, int j0, in
     throw std::invalid_argument("patchMicroNormals: the patch leaves the height field");
   std::vector<Vec3> normals;
   normals.reserve(std::size_t(count) * count * points_per_side * points_per_side);
-  const double L = field.cellSize();
   for (int j = j0; j < j0 + count; ++j)
-    for (int i = i0; i < i0 + count; ++i) {
-      const double h00 = field.at(i, j), h10 = field.at(i + 1, j), h01 = field.at(i, j + 1), h11 = field.at(i + 1, j + 1);
+    for (int i = i0; i < i0 + count; ++i)
       for (int b = 0; b < points_per_side; ++b)
         for (int a = 0; a < points_per_side; ++a) {
-          const double x = (a + 0.5) / points_per_side, y = (b + 0.5) / points_per_side;
-          // The gradient of the bilinear cell at (x, y), in world units.
-          const double dhdx = ((h10 - h00) * (1 - y) + (h11 - h01) * y) / L;
-          const double dhdy = ((h01 - h00) * (1 - x) + (h11 - h10) * x) / L;
-          normals.push_back(Vec3(-dhdx, -dhdy, 1).normalized());
+          const Point2 g = field.gradient(i, j, (a + 0.5) / points_per_side, (b + 0.5) / points_per_side);
+          normals.push_back(Vec3(-g.x(), -g.y(), 1).normalized());
         }
-    }
   return normals;
 }
 

@@ -7,6 +7,7 @@
 #include "libvdbappear/surface/microfacet_brdf.h"
 
 #include "support/chi2_test.h"
+#include "support/sphere_quadrature.h"
 #include "support/test_random.h"
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -35,10 +36,7 @@ double integrateUnit(const std::function<double(double)>& f) {
   return boost::math::quadrature::gauss_kronrod<double, 15>::integrate(f, 0.0, 1.0, 20, 1e-11);
 }
 
-Vec3 fromCosTheta(double cos_theta, double phi) {
-  const double sin_theta = std::sqrt(std::max(0.0, 1 - cos_theta * cos_theta));
-  return {sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta};
-}
+Vec3 fromCosTheta(double cos_theta) { return test::sphericalDirection(Frame::fromNormal(Vec3(0, 0, 1)), cos_theta, 0); }
 
 // int_0^{2 pi} max(0, a cos phi + b) dphi, a >= 0: the azimuthal integral of a clamped cosine.
 double clampedCosineOverPhi(double a, double b) {
@@ -52,7 +50,7 @@ double clampedCosineOverPhi(double a, double b) {
 TEST(Microfacet, NormalDistributionHasUnitProjectedArea) {  // Eq. (4.3)
   for (const Case& c : kCases) {
     const MicrofacetDistribution d(c.kind, c.alpha);
-    const double integral = 2 * kPi * integrateUnit([&](double mu) { return d.D(fromCosTheta(mu, 0)) * mu; });
+    const double integral = 2 * kPi * integrateUnit([&](double mu) { return d.D(fromCosTheta(mu)) * mu; });
     EXPECT_NEAR(integral, 1, 1e-8) << name(c);
   }
 }
@@ -69,7 +67,7 @@ TEST(Microfacet, SmithMaskingConservesTheProjectedArea) {
       const Vec3 wo(sin_o, 0, cos_o);
       const double area = d.G1(wo) * integrateUnit([&](double mu) {
         const double sin_m = std::sqrt(std::max(0.0, 1 - mu * mu));
-        return d.D(fromCosTheta(mu, 0)) * clampedCosineOverPhi(sin_o * sin_m, cos_o * mu);
+        return d.D(fromCosTheta(mu)) * clampedCosineOverPhi(sin_o * sin_m, cos_o * mu);
       });
       EXPECT_NEAR(area, cos_o, 1e-7) << name(c) << ", cos theta_o " << cos_o;
     }
