@@ -31,9 +31,21 @@ MicroGeometry::Point MicroGeometry::at(double u, double v) const {
   return {Vec3(base.x(), base.y(), z), normal};
 }
 
+double MicroGeometry::rayEpsilon() const {
+  return 1e-6 * std::max(1.0, field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
+}
+
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
-  const double eps = 1e-6 * std::max(1.0, field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
+  const double eps = rayEpsilon();
   return !scene_->occluded(p.x + eps * p.normal, w, eps, 1e30);
+}
+
+std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const Vec3& w) const {
+  const double eps = rayEpsilon();
+  const Vec3 origin = p.x + eps * p.normal;
+  const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
+  if (!hit) return std::nullopt;
+  return Point{origin + hit->t * w, hit->normal};
 }
 
 EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 
 namespace vdbappear {
 
@@ -33,9 +34,12 @@ class MicroGeometry {
   Point at(double u, double v) const;
   // Whether w leaves the point without meeting the surface again (rays beyond the field escape).
   bool unoccluded(const Point& p, const Vec3& w) const;
+  // The first point that a ray from p along w meets, if any (none past the field's edges).
+  std::optional<Point> trace(const Point& p, const Vec3& w) const;
   const HeightField& field() const { return field_; }
 
  private:
+  double rayEpsilon() const;
   HeightField field_;
   std::unique_ptr<SurfaceScene> scene_;
 };

@@ -1,0 +1,100 @@
+#include "libvdbappear/prefilter/scaling_factorization.h"
+
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/random_stream.h"
+#include "libvdbappear/math/sampling.h"
+#include "libvdbappear/util/progress.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace vdbappear {
+namespace {
+
+// The coarse cell under base position x in [0,1]^2.
+std::pair<int, int> cellAt(const Point2& x, int cells_x, int cells_y) {
+  return {std::clamp(int(x.x() * cells_x), 0, cells_x - 1), std::clamp(int(x.y() * cells_y), 0, cells_y - 1)};
+}
+
+// T's bin (a, b) before normalisation: R averaged over uniform positions in the bin and
+// cosine-weighted direction pairs (§4.7.1).
+Rgb spatialBin(const ScalingSampler& R, int a, int b, int cells_x, int cells_y, const FactorizationSettings& s) {
+  const int M = s.spatial_resolution;
+  const double max_theta = s.max_theta_degrees * kPi / 180;
+  RandomStream rng(s.seed, {0, a, b});
+  Rgb sum = Rgb::Zero();
+  for (int k = 0; k < s.pairs_per_spatial_bin; ++k) {
+    const Point2 u = rng.uniform2();
+    const auto [cu, cv] = cellAt(Point2((a + u.x()) / M, (b + u.y()) / M), cells_x, cells_y);
+    const Vec3 wi = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
+    const Vec3 wo = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
+    sum += R(cu, cv, wi, wo);
+  }
+  return sum / double(s.pairs_per_spatial_bin);
+}
+
+// S's bin: R at the bins' directions averaged over positions stratified over the whole map.
+Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::size_t bin, int cells_x, int cells_y,
+               const FactorizationSettings& s) {
+  const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
+  const int count = s.positions_per_angular_bin;
+  RandomStream rng(s.seed, {1, std::int64_t(bin)});
+  Rgb sum = Rgb::Zero();
+  for (int k = 0; k < count; ++k) {
+    const int stratum = k % (strata * strata);
+    const Point2 u = rng.uniform2();
+    const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
+    const auto [cu, cv] = cellAt(x, cells_x, cells_y);
+    sum += R(cu, cv, wi, wo);
+  }
+  return sum / double(count);
+}
+
+}  // namespace
+
+Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
+  const double theta = std::acos(std::clamp(w.z(), -1.0, 1.0));
+  if (theta <= max_theta) return w;
+  const double r = std::hypot(w.x(), w.y());
+  if (r == 0) return w;
+  return {w.x() / r * std::sin(max_theta), w.y() / r * std::sin(max_theta), std::cos(max_theta)};
+}
+
+FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
+                                   const FactorizationSettings& s, ProgressBar* progress) {
+  if (cells_x < 1 || cells_y < 1 || s.spatial_resolution < 1 || s.angular_resolution < 1 ||
+      s.pairs_per_spatial_bin < 1 || s.positions_per_angular_bin < 1)
+    throw std::invalid_argument("factorizeScaling: empty map, table or sample count");
+  const int M = s.spatial_resolution, N = s.angular_resolution;
+  FactorizedScaling result;
+  result.T.resolution = M;
+  result.T.values.assign(std::size_t(M) * M, Rgb::Zero());
+  result.S.resolution = N;
+  result.S.values.assign(std::size_t(N) * N * N * N, Rgb::Zero());
+  if (progress) progress->setTotal(result.T.values.size() + result.S.values.size());
+
+  tbb::parallel_for(std::size_t(0), result.T.values.size(), [&](std::size_t bin) {
+    result.T.values[bin] = spatialBin(R, int(bin % M), int(bin / M), cells_x, cells_y, s);
+    if (progress) progress->advance();
+  });
+  // Eq. (4.23): C makes T average one, so that S carries R's overall level.
+  Rgb mean = Rgb::Zero();
+  for (const Rgb& t : result.T.values) mean += t;
+  mean /= double(result.T.values.size());
+  for (Rgb& t : result.T.values) t = (mean > 0).select(t / mean, Rgb::Ones());
+
+  const double max_theta = s.max_theta_degrees * kPi / 180;
+  tbb::parallel_for(std::size_t(0), result.S.values.size(), [&](std::size_t bin) {
+    const int oa = int(bin % N), ob = int(bin / N % N), ia = int(bin / (N * N) % N), ib = int(bin / (std::size_t(N) * N * N));
+    const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
+    const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
+    result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, wo, bin, cells_x, cells_y, s);
+    if (progress) progress->advance();
+  });
+  return result;
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,40 @@
+#pragma once
+// The efficient rank-1 factorisation of the scaling function, Eq. (4.22)-(4.24) of the displacement
+// chapter (shared/papers/002_6a636dc24396287c.txt, §4.6-4.7.1), from sparse samples of R_ir rather
+// than the full 6-D function:
+//   T_ir(x)       = 1/C int int R_ir(x, wi, wo) dwi dwo            (Eq. 4.22, C of Eq. 4.23),
+//   S_ir(wi, wo)  = int_P_all R_ir(x_m(p), wi, wo) k(p) dp         (Eq. 4.24).
+// T's bins average R over random positions in the bin and direction pairs drawn cosine-weighted,
+// then are scaled to average one; S's bins average R at the bin's directions over stratified
+// positions of the whole map. Their product reproduces a separable R exactly (Appendix B.2).
+
+#include "libvdbappear/prefilter/scaling_tables.h"
+
+#include <cstdint>
+#include <functional>
+
+namespace vdbappear {
+
+class ProgressBar;
+
+// R_ir at coarse cell (u, v) for a direction pair (Eq. 4.12 or 4.20); called from several threads.
+using ScalingSampler = std::function<Rgb(int u, int v, const Vec3& wi, const Vec3& wo)>;
+
+struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
+  int spatial_resolution = 4;         // M
+  int angular_resolution = 15;        // N
+  int pairs_per_spatial_bin = 5000;   // (wi, wo) pairs per T bin
+  int positions_per_angular_bin = 16; // stratified p per S bin
+  // Footnote 5: R is unstable near grazing; directions beyond this are evaluated at it (same azimuth).
+  double max_theta_degrees = 75;
+  std::uint64_t seed = 1;
+};
+
+// Over a map of cells_x x cells_y coarse cells. Deterministic under the seed for any thread count.
+FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
+                                   const FactorizationSettings& settings, ProgressBar* progress = nullptr);
+
+// w with its polar angle limited to max_theta (radians), keeping its azimuth.
+Vec3 limitPolarAngle(const Vec3& w, double max_theta);
+
+}  // namespace vdbappear

@@ -1,0 +1,57 @@
+#include "libvdbappear/prefilter/scaling_tables.h"
+
+#include "libvdbappear/math/concentric_mapping.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vdbappear {
+namespace {
+
+// Linear interpolation between the centres of N bins over [0,1]: the two bins and the weight of the second.
+struct AxisWeights {
+  int i0, i1;
+  double t;
+};
+
+AxisWeights axisWeights(double s, int N) {
+  const double c = std::clamp(s * N - 0.5, 0.0, double(N - 1));
+  const int i0 = std::min(int(c), std::max(0, N - 2));
+  return {i0, std::min(i0 + 1, N - 1), c - i0};
+}
+
+}  // namespace
+
+Rgb SpatialScaling::operator()(const Point2& x) const {
+  const AxisWeights a = axisWeights(x.x(), resolution), b = axisWeights(x.y(), resolution);
+  const auto at = [&](int i, int j) { return values[std::size_t(i) + std::size_t(resolution) * j]; };
+  return (1 - b.t) * ((1 - a.t) * at(a.i0, b.i0) + a.t * at(a.i1, b.i0)) +
+         b.t * ((1 - a.t) * at(a.i0, b.i1) + a.t * at(a.i1, b.i1));
+}
+
+Point2 SpatialScaling::binCentre(int a, int b) const { return {(a + 0.5) / resolution, (b + 0.5) / resolution}; }
+
+Rgb AngularScaling::operator()(const Vec3& wi, const Vec3& wo) const {
+  const Point2 si = hemisphereToSquare(Vec3(wi.x(), wi.y(), std::max(0.0, wi.z())).normalized());
+  const Point2 so = hemisphereToSquare(Vec3(wo.x(), wo.y(), std::max(0.0, wo.z())).normalized());
+  const AxisWeights axes[4] = {axisWeights(si.x(), resolution), axisWeights(si.y(), resolution),
+                               axisWeights(so.x(), resolution), axisWeights(so.y(), resolution)};
+  Rgb sum = Rgb::Zero();
+  for (int corner = 0; corner < 16; ++corner) {  // the 16 bin centres around (wi, wo)
+    int i[4];
+    double weight = 1;
+    for (int k = 0; k < 4; ++k) {
+      const bool upper = (corner >> k) & 1;
+      i[k] = upper ? axes[k].i1 : axes[k].i0;
+      weight *= upper ? axes[k].t : 1 - axes[k].t;
+    }
+    if (weight > 0) sum += weight * values[index(i[0], i[1], i[2], i[3])];
+  }
+  return sum;
+}
+
+Vec3 AngularScaling::binDirection(int a, int b) const {
+  return squareToHemisphere({(a + 0.5) / resolution, (b + 0.5) / resolution});
+}
+
+}  // namespace vdbappear
