@@ -1,0 +1,104 @@
+#include "libvdbappear/prefilter/displacement_prefilter.h"
+
+#include "libvdbappear/math/frame.h"
+#include "libvdbappear/prefilter/effective_brdf.h"
+#include "libvdbappear/prefilter/multi_bounce_effective_brdf.h"
+#include "libvdbappear/surface/height_downsample.h"
+#include "libvdbappear/surface/multi_lobe_brdf.h"
+#include "libvdbappear/surface/patch_ndf.h"
+
+#include <tbb/parallel_for.h>
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace vdbappear {
+namespace {
+
+void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings& s) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument(what); };
+  if (s.factor < 2) fail("the factor must be at least 2");
+  if (fine.cellsX() % s.factor != 0 || fine.cellsY() % s.factor != 0)
+    fail("the factor " + std::to_string(s.factor) + " does not divide the map's " + std::to_string(fine.cellsX()) +
+         " x " + std::to_string(fine.cellsY()) + " cells (a map of (n + 1)^2 pixels has n^2 cells)");
+  if (s.normals_per_cell_side < 1 || s.lobe_quadrature < 1 || s.samples_per_side < 1 || s.max_vertices < 1)
+    fail("sample counts must be at least 1");
+}
+
+// R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
+// its F x F fine cells over the prefiltered model's on the coarse cell. f'_low does not depend on
+// the point (its lobes are in the base frame), so f_eff(G_low, f'_low) = f'_low(wi, wo) times the
+// effective BRDF of G_low with f = 1, which is what is estimated.
+class ScalingEstimator {
+ public:
+  ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
+                   const DisplacementPrefilterSettings& s)
+      : original_(fine), prefiltered_(low.height), low_(low), base_(base), s_(s) {}
+
+  Rgb operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
+    const int F = s_.factor;
+    const std::uint64_t seed = s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40);
+    Rgb original;
+    if (s_.scaling == ScalingKind::Interreflection) {
+      MultiBounceSettings m;
+      m.samples_per_side = s_.samples_per_side;
+      m.max_vertices = s_.max_vertices;
+      m.seed = seed;
+      original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m).value;
+    } else {
+      original = effectiveBrdf(original_, u * F, v * F, F, microBrdf(), wi, wo, single(seed)).value;
+    }
+    const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
+    const Rgb geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed)).value;
+    const MultiLobeBrdf f_low(low_.ndfs[std::size_t(u) + std::size_t(low_.height.cellsX()) * v], base_,
+                              s_.lobe_quadrature);
+    return original / (f_low.eval(wi, wo) * geometry + 1e-6);  // footnote 2's epsilon
+  }
+
+ private:
+  EffectiveBrdfSettings single(std::uint64_t seed) const {
+    EffectiveBrdfSettings e;
+    e.samples_per_side = s_.samples_per_side;
+    e.seed = seed;
+    return e;
+  }
+  PatchBrdf microBrdf() const {
+    return [this](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
+      const Frame frame = Frame::fromNormal(normal);
+      return base_.eval(frame.toLocal(wo), frame.toLocal(wi));
+    };
+  }
+
+  MicroGeometry original_, prefiltered_;
+  const PrefilteredSurface& low_;
+  const MicrofacetBrdf& base_;
+  const DisplacementPrefilterSettings& s_;
+};
+
+}  // namespace
+
+std::vector<VmfMixture> fitPatchNdfs(const HeightField& fine, const DisplacementPrefilterSettings& s) {
+  checkSettings(fine, s);
+  const int F = s.factor, cells_x = fine.cellsX() / F, cells_y = fine.cellsY() / F;
+  std::vector<VmfMixture> ndfs(std::size_t(cells_x) * cells_y);
+  tbb::parallel_for(std::size_t(0), ndfs.size(), [&](std::size_t cell) {
+    const int u = int(cell % cells_x), v = int(cell / cells_x);
+    ndfs[cell] = fitPatchNdf(patchMicroNormals(fine, u * F, v * F, F, s.normals_per_cell_side), s.ndf);
+  });
+  return ndfs;
+}
+
+PrefilteredSurface prefilterDisplacement(const HeightField& fine, const MicrofacetBrdf& base,
+                                         const DisplacementPrefilterSettings& s, ProgressBar* progress) {
+  checkSettings(fine, s);
+  PrefilteredSurface result;
+  result.height = downsampleHeights(fine, {s.factor, s.smoothness_weight});  // step 1
+  result.ndfs = fitPatchNdfs(fine, s);                                        // step 2
+  const ScalingEstimator R(fine, result, base, s);                            // step 3
+  result.scaling = factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(),
+                                    s.factorization, progress);  // step 4
+  return result;
+}
+
+}  // namespace vdbappear
