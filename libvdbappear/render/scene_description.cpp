@@ -113,7 +113,9 @@ json checkedLight(json light, const std::string& folder, const std::string& sour
   return light;
 }
 
-MicrofacetBrdf brdfOf(const json& b, const std::string& source, const std::string& where) {
+}  // namespace
+
+MicrofacetBrdf brdfFromJson(const json& b, const std::string& source, const std::string& where) {
   checkKeys(b, {"distribution", "roughness", "specular", "diffuse"}, source, where);
   try {
     const MicrofacetKind kind =
@@ -128,6 +130,16 @@ MicrofacetBrdf brdfOf(const json& b, const std::string& source, const std::strin
     throw std::runtime_error(fmt::format("{}: {}: {}", source, where, e.what()));
   }
 }
+
+json brdfToJson(const MicrofacetBrdf& brdf) {
+  const auto rgb = [](const Rgb& c) { return json::array({c[0], c[1], c[2]}); };
+  return {{"distribution", brdf.distribution().kind() == MicrofacetKind::GGX ? "ggx" : "beckmann"},
+          {"roughness", brdf.distribution().alpha()},
+          {"specular", rgb(brdf.specular())},
+          {"diffuse", rgb(brdf.diffuse())}};
+}
+
+namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
@@ -149,7 +161,7 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
     if (field.placement.tiles_x < 1 || field.placement.tiles_y < 1) fail(source, where + ".tiles", "must be >= 1");
   }
   if (h.contains("albedo")) field.albedo = rgbOf(h["albedo"], source, where + ".albedo");
-  if (h.contains("brdf")) field.brdf = brdfOf(h["brdf"], source, where + ".brdf");
+  if (h.contains("brdf")) field.brdf = brdfFromJson(h["brdf"], source, where + ".brdf");
   return field;
 }
 
@@ -248,7 +260,7 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
     GroundDescription& ground = scene->ground.emplace();  // a failure below ends the whole read
     if (json["ground"].contains("height")) ground.height = numberOf<double>(json["ground"]["height"], source, "ground.height");
     if (json["ground"].contains("albedo")) ground.albedo = rgbOf(json["ground"]["albedo"], source, "ground.albedo");
-    if (json["ground"].contains("brdf")) ground.brdf = brdfOf(json["ground"]["brdf"], source, "ground.brdf");
+    if (json["ground"].contains("brdf")) ground.brdf = brdfFromJson(json["ground"]["brdf"], source, "ground.brdf");
   }
   if (json.contains("subsurface")) applySubsurface(json["subsurface"], source, &scene->subsurface);
   if (json.contains("meshes")) {
@@ -261,7 +273,7 @@ void applySceneJson(const json& json, const std::string& folder, const std::stri
       MeshDescription mesh;
       mesh.file = resolve(folder, m["file"].get<std::string>());
       if (m.contains("albedo")) mesh.albedo = rgbOf(m["albedo"], source, where + ".albedo");
-      if (m.contains("brdf")) mesh.brdf = brdfOf(m["brdf"], source, where + ".brdf");
+      if (m.contains("brdf")) mesh.brdf = brdfFromJson(m["brdf"], source, where + ".brdf");
       if (m.contains("translucent")) mesh.translucent = translucentOf(m["translucent"], source, where + ".translucent");
       scene->meshes.push_back(mesh);
     }

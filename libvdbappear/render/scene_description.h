@@ -84,6 +84,11 @@ struct SceneDescription {
 // vanishes into the background; here a white smoke and a dark absorbing one both show their shape.
 nlohmann::json defaultLights();
 
+// A "brdf" object (keys above) as a microfacet BRDF; throws std::runtime_error "SOURCE: WHERE: what".
+MicrofacetBrdf brdfFromJson(const nlohmann::json& brdf, const std::string& source, const std::string& where);
+// The inverse, with every key written out.
+nlohmann::json brdfToJson(const MicrofacetBrdf& brdf);
+
 // Reads a scene file; relative paths in it (medium, meshes, environment maps) are taken relative
 // to the file's folder. Throws std::runtime_error "FILE: KEY: what is wrong".
 SceneDescription readSceneFile(const std::string& path);

@@ -2,11 +2,18 @@
 // the displacement chapter): a flat map needs no scaling (T = S = 1); on a bumpy Lambertian map
 // interreflection only adds light (S_ir >= S bin by bin, the same base positions); bad settings throw.
 #include "libvdbappear/prefilter/displacement_prefilter.h"
+#include "libvdbappear/prefilter/prefiltered_surface_file.h"
+#include "libvdbappear/util/error.h"
 
 #include "support/height_fields.h"
+#include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -58,6 +65,50 @@ TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
   DisplacementPrefilterSettings s = smallSettings();
   s.factor = 6;
   EXPECT_THROW(prefilterDisplacement(HeightField(32, 32, 0.01), base, s), std::invalid_argument);
+}
+
+// docs/displacement.md §6: what is written is read back, to float precision, with the BRDF and the
+// manifest's scalars; a missing part or a manifest of another kind is refused naming the file.
+TEST(PrefilteredSurfaceFile, RoundTripsAndRefusesBrokenSets) {
+  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.25), Rgb(0.9, 0.5, 0.2), Rgb(0.1, 0.2, 0.3));
+  PrefilteredSurfaceFile written{prefilterDisplacement(bumpy, base, smallSettings()), base, {"map.exr", 8, 0.32, 2.0, ScalingKind::Shadowing}};
+  const test::TempDir dir;
+  const std::string manifest = dir.path("bumpy_8x.json");
+  writePrefilteredSurface(written, manifest, {{"seed", 1}});
+  for (const char* part : {"height", "lobes", "T", "S"})
+    EXPECT_TRUE(std::filesystem::exists(dir.path(std::string("bumpy_8x.") + part + ".exr"))) << part;
+  const PrefilteredSurfaceFile read = readPrefilteredSurface(manifest);
+  EXPECT_EQ(read.info.source, "map.exr");
+  EXPECT_EQ(read.info.factor, 8);
+  EXPECT_EQ(read.info.scaling, ScalingKind::Shadowing);
+  EXPECT_DOUBLE_EQ(read.info.height_scale, 2.0);
+  EXPECT_EQ(read.base.distribution().kind(), MicrofacetKind::Beckmann);
+  EXPECT_DOUBLE_EQ(read.base.distribution().alpha(), 0.25);
+  EXPECT_TRUE((read.base.specular() == base.specular()).all());
+  const HeightField& h = read.surface.height;
+  ASSERT_EQ(h.cellsX(), 4);
+  EXPECT_NEAR(h.cellSize(), 0.08, 1e-12);
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) EXPECT_NEAR(h.at(i, j), written.surface.height.at(i, j), 1e-6 * 2);
+  ASSERT_EQ(read.surface.ndfs.size(), 16u);
+  for (std::size_t c = 0; c < 16; ++c) {
+    const Vec3 w = Vec3(0.3, -0.2, 1).normalized();
+    EXPECT_NEAR(read.surface.ndfs[c](w), written.surface.ndfs[c](w), 1e-4 * written.surface.ndfs[c](w)) << c;
+  }
+  const Vec3 wi = Vec3(0.5, 0.1, 0.8).normalized(), wo = Vec3(-0.2, 0.4, 0.9).normalized();
+  const Point2 x(0.3, 0.7);
+  EXPECT_LT((read.surface.scaling(x, wi, wo) - written.surface.scaling(x, wi, wo)).abs().maxCoeff(), 1e-5);
+
+  std::filesystem::remove(dir.path("bumpy_8x.S.exr"));
+  try {
+    readPrefilteredSurface(manifest);
+    ADD_FAILURE() << "a missing part was accepted";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("bumpy_8x.S.exr: missing"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir.path("other.json")) << R"({"format": "something else"})";
+  EXPECT_THROW(readPrefilteredSurface(dir.path("other.json")), MediumError);
 }
 
 }  // namespace

@@ -1,0 +1,209 @@
+#include "libvdbappear/prefilter/prefiltered_surface_file.h"
+
+#include "libvdbappear/image/exr_file.h"
+#include "libvdbappear/io/atomic_file.h"
+#include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+namespace vdbappear {
+namespace {
+
+using json = nlohmann::json;
+constexpr const char* kFormat = "vdbappear prefiltered displacement";
+constexpr int kVersion = 1;
+constexpr const char* kLobeChannels[5] = {"A", "kappa", "X", "Y", "Z"};  // alpha, kappa, mu
+
+std::string scalingName(ScalingKind kind) { return kind == ScalingKind::Shadowing ? "shadowing" : "interreflection"; }
+
+ImageChannels emptyImage(int width, int height, std::vector<std::string> names) {
+  ImageChannels image;
+  image.width = width;
+  image.height = height;
+  image.names = std::move(names);
+  image.values.assign(std::size_t(width) * height * image.names.size(), 0.0f);
+  return image;
+}
+
+float& pixel(ImageChannels& image, int column, int row, int channel) {
+  return image.values[(std::size_t(row) * image.width + column) * image.names.size() + channel];
+}
+float pixel(const ImageChannels& image, int column, int row, int channel) {
+  return image.values[(std::size_t(row) * image.width + column) * image.names.size() + channel];
+}
+
+// Vertex or cell (i, j) is pixel (i, rows - 1 - j): the map reads upright from +z (§1).
+ImageChannels heightImage(const HeightField& h, double height_scale) {
+  ImageChannels image = emptyImage(h.verticesX(), h.verticesY(), {"Y"});
+  for (int j = 0; j < h.verticesY(); ++j)
+    for (int i = 0; i < h.verticesX(); ++i) pixel(image, i, h.verticesY() - 1 - j, 0) = float(h.at(i, j) / height_scale);
+  return image;
+}
+
+ImageChannels lobeImage(const std::vector<VmfMixture>& ndfs, int cells_x, int cells_y) {
+  std::size_t lobes = 1;
+  for (const VmfMixture& d : ndfs) lobes = std::max(lobes, d.lobes.size());
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < lobes; ++k)
+    for (const char* c : kLobeChannels) names.push_back(fmt::format("lobe{}.{}", k, c));
+  ImageChannels image = emptyImage(cells_x, cells_y, names);
+  for (int v = 0; v < cells_y; ++v)
+    for (int u = 0; u < cells_x; ++u) {
+      const VmfMixture& d = ndfs[std::size_t(u) + std::size_t(cells_x) * v];
+      for (std::size_t k = 0; k < d.lobes.size(); ++k) {
+        const VmfLobe& l = d.lobes[k];
+        const double values[5] = {l.amplitude, l.kappa, l.mu.x(), l.mu.y(), l.mu.z()};
+        for (int c = 0; c < 5; ++c) pixel(image, u, cells_y - 1 - v, int(5 * k) + c) = float(values[c]);
+      }
+    }
+  return image;
+}
+
+ImageChannels rgbTable(const std::vector<Rgb>& values, int side) {
+  ImageChannels image = emptyImage(side, side, {"R", "G", "B"});
+  for (int row = 0; row < side; ++row)
+    for (int column = 0; column < side; ++column)
+      for (int c = 0; c < 3; ++c) pixel(image, column, row, c) = float(values[std::size_t(row) * side + column][c]);
+  return image;
+}
+
+// T's bin (a, b) is pixel (a, M - 1 - b); S's bin (wi bin ia + N ib, wo bin oa + N ob) is pixel
+// (column oa + N ob, row ia + N ib).
+std::vector<Rgb> spatialRows(const SpatialScaling& T) {
+  const int M = T.resolution;
+  std::vector<Rgb> rows(T.values.size());
+  for (int b = 0; b < M; ++b)
+    for (int a = 0; a < M; ++a) rows[std::size_t(M - 1 - b) * M + a] = T.values[std::size_t(a) + std::size_t(M) * b];
+  return rows;
+}
+
+void fail(const std::string& path, const std::string& what) { throw MediumError(fmt::format("{}: {}", path, what)); }
+
+ImageChannels readPart(const std::string& path, int width, int height, int min_channels) {
+  if (!std::filesystem::exists(path)) fail(path, "missing (a part of a prefiltered displacement map)");
+  ImageChannels image = readExrChannels(path);
+  if (image.width != width || image.height != height || int(image.names.size()) < min_channels)
+    fail(path, fmt::format("expected {} x {} pixels with at least {} channels, found {} x {} with {}", width, height,
+                           min_channels, image.width, image.height, image.names.size()));
+  for (float value : image.values)
+    if (!std::isfinite(value)) fail(path, "holds a value that is not finite");
+  return image;
+}
+
+}  // namespace
+
+std::string prefilteredPartPath(const std::string& manifest_path, const std::string& part) {
+  std::filesystem::path p(manifest_path);
+  const std::string stem = p.extension() == ".json" ? p.stem().string() : p.filename().string();
+  return (p.parent_path() / (stem + "." + part + ".exr")).string();
+}
+
+void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::string& manifest_path, const json& extra) {
+  const PrefilteredSurface& s = file.surface;
+  const int cells_x = s.height.cellsX(), cells_y = s.height.cellsY();
+  const std::pair<std::string, ImageChannels> parts[] = {
+      {"height", heightImage(s.height, file.info.height_scale)},
+      {"lobes", lobeImage(s.ndfs, cells_x, cells_y)},
+      {"T", rgbTable(spatialRows(s.scaling.T), s.scaling.T.resolution)},
+      {"S", rgbTable(s.scaling.S.values, s.scaling.S.resolution * s.scaling.S.resolution)}};
+  std::vector<std::unique_ptr<AtomicFile>> outputs;
+  json files;
+  for (const auto& [part, image] : parts) {
+    const std::string path = prefilteredPartPath(manifest_path, part);
+    outputs.push_back(std::make_unique<AtomicFile>(path));
+    writeExrChannels(image, ExrPixelType::float32, outputs.back()->temporaryPath(), path);
+    files[part] = std::filesystem::path(path).filename().string();
+  }
+  const json manifest = {{"format", kFormat},
+                         {"version", kVersion},
+                         {"source", file.info.source},
+                         {"factor", file.info.factor},
+                         {"size", file.info.size},
+                         {"height_scale", file.info.height_scale},
+                         {"cells", {cells_x, cells_y}},
+                         {"brdf", brdfToJson(file.base)},
+                         {"scaling", scalingName(file.info.scaling)},
+                         {"spatial_resolution", s.scaling.T.resolution},
+                         {"angular_resolution", s.scaling.S.resolution},
+                         {"files", files},
+                         {"settings", extra}};
+  AtomicFile output(manifest_path);
+  {
+    std::ofstream stream(output.temporaryPath());
+    stream << manifest.dump(2) << "\n";
+    if (!stream) fail(manifest_path, "cannot be written");
+  }
+  for (auto& part : outputs) part->commit();
+  output.commit();
+}
+
+PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) {
+  std::ifstream stream(manifest_path);
+  if (!stream) fail(manifest_path, "cannot be opened");
+  json m;
+  try {
+    m = json::parse(stream);
+    if (m.value("format", "") != kFormat) fail(manifest_path, "not a prefiltered displacement map (no \"format\": \"" + std::string(kFormat) + "\")");
+    if (m.at("version").get<int>() != kVersion) fail(manifest_path, "unknown version");
+    PrefilteredSurfaceInfo info;
+    info.source = m.at("source").get<std::string>();
+    info.factor = m.at("factor").get<int>();
+    info.size = m.at("size").get<double>();
+    info.height_scale = m.at("height_scale").get<double>();
+    info.scaling = m.at("scaling").get<std::string>() == "shadowing" ? ScalingKind::Shadowing : ScalingKind::Interreflection;
+    const int cells_x = m.at("cells").at(0).get<int>(), cells_y = m.at("cells").at(1).get<int>();
+    const int M = m.at("spatial_resolution").get<int>(), N = m.at("angular_resolution").get<int>();
+    if (cells_x < 1 || cells_y < 1 || M < 1 || N < 1 || !(info.size > 0) || !(info.height_scale > 0))
+      fail(manifest_path, "cells, table resolutions, size and height_scale must be positive");
+    const MicrofacetBrdf base = brdfFromJson(m.at("brdf"), manifest_path, "brdf");
+    const std::filesystem::path folder = std::filesystem::path(manifest_path).parent_path();
+    const auto part = [&](const char* name) { return (folder / m.at("files").at(name).get<std::string>()).string(); };
+
+    PrefilteredSurface s;
+    const ImageChannels height = readPart(part("height"), cells_x + 1, cells_y + 1, 1);
+    s.height = HeightField(cells_x, cells_y, info.size / cells_x);
+    for (int j = 0; j <= cells_y; ++j)
+      for (int i = 0; i <= cells_x; ++i) s.height.at(i, j) = pixel(height, i, cells_y - j, 0) * info.height_scale;
+    const ImageChannels lobes = readPart(part("lobes"), cells_x, cells_y, 5);
+    s.ndfs.resize(std::size_t(cells_x) * cells_y);
+    for (int k = 0; lobes.find(fmt::format("lobe{}.A", k)) >= 0; ++k) {
+      int channel[5];
+      for (int c = 0; c < 5; ++c) {
+        const std::string name = fmt::format("lobe{}.{}", k, kLobeChannels[c]);
+        if ((channel[c] = lobes.find(name)) < 0) fail(part("lobes"), "no channel " + name);
+      }
+      for (int v = 0; v < cells_y; ++v)
+        for (int u = 0; u < cells_x; ++u) {
+          const auto c = [&](int i) { return double(pixel(lobes, u, cells_y - 1 - v, channel[i])); };
+          if (c(0) <= 0) continue;  // an unused lobe
+          if (c(1) < 0) fail(part("lobes"), fmt::format("cell ({}, {}): negative kappa", u, v));
+          s.ndfs[std::size_t(u) + std::size_t(cells_x) * v].lobes.push_back({c(0), c(1), Vec3(c(2), c(3), c(4)).normalized()});
+        }
+    }
+    const ImageChannels T = readPart(part("T"), M, M, 3), S = readPart(part("S"), N * N, N * N, 3);
+    s.scaling.T.resolution = M;
+    for (int b = 0; b < M; ++b)
+      for (int a = 0; a < M; ++a) s.scaling.T.values.push_back(Rgb(pixel(T, a, M - 1 - b, 0), pixel(T, a, M - 1 - b, 1), pixel(T, a, M - 1 - b, 2)));
+    s.scaling.S.resolution = N;
+    for (int row = 0; row < N * N; ++row)
+      for (int column = 0; column < N * N; ++column)
+        s.scaling.S.values.push_back(Rgb(pixel(S, column, row, 0), pixel(S, column, row, 1), pixel(S, column, row, 2)));
+    return {std::move(s), base, info};
+  } catch (const json::exception& e) {
+    fail(manifest_path, e.what());
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const MediumError*>(&e)) throw;
+    throw MediumError(e.what());
+  }
+  throw MediumError(manifest_path);  // not reached
+}
+
+}  // namespace vdbappear
