@@ -6,6 +6,7 @@
 #include "libvdbappear/surface/height_downsample.h"
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
+#include "libvdbappear/util/stopwatch.h"
 
 #include <tbb/parallel_for.h>
 
@@ -22,7 +23,7 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
   if (fine.cellsX() % s.factor != 0 || fine.cellsY() % s.factor != 0)
     fail("the factor " + std::to_string(s.factor) + " does not divide the map's " + std::to_string(fine.cellsX()) +
          " x " + std::to_string(fine.cellsY()) + " cells (a map of (n + 1)^2 pixels has n^2 cells)");
-  if (s.normals_per_cell_side < 1 || s.lobe_quadrature < 1 || s.samples_per_side < 1 || s.max_vertices < 1)
+  if (s.normals_per_cell_side < 1 || s.samples_per_side < 1 || s.max_vertices < 1)
     fail("sample counts must be at least 1");
 }
 
@@ -34,7 +35,9 @@ class ScalingEstimator {
  public:
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
                    const DisplacementPrefilterSettings& s)
-      : original_(fine), prefiltered_(low.height), low_(low), base_(base), s_(s) {}
+      : original_(fine), prefiltered_(low.height), base_(base), s_(s) {
+    for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
+  }
 
   Rgb operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
     const int F = s_.factor;
@@ -51,8 +54,7 @@ class ScalingEstimator {
     }
     const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
     const Rgb geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed)).value;
-    const MultiLobeBrdf f_low(low_.ndfs[std::size_t(u) + std::size_t(low_.height.cellsX()) * v], base_,
-                              s_.lobe_quadrature);
+    const MultiLobeBrdf& f_low = f_low_[std::size_t(u) + std::size_t(prefiltered_.field().cellsX()) * v];
     return original / (f_low.eval(wi, wo) * geometry + 1e-6);  // footnote 2's epsilon
   }
 
@@ -71,7 +73,7 @@ class ScalingEstimator {
   }
 
   MicroGeometry original_, prefiltered_;
-  const PrefilteredSurface& low_;
+  std::vector<MultiLobeBrdf> f_low_;  // per coarse cell
   const MicrofacetBrdf& base_;
   const DisplacementPrefilterSettings& s_;
 };
@@ -93,11 +95,15 @@ PrefilteredSurface prefilterDisplacement(const HeightField& fine, const Microfac
                                          const DisplacementPrefilterSettings& s, ProgressBar* progress) {
   checkSettings(fine, s);
   PrefilteredSurface result;
+  Stopwatch clock;
   result.height = downsampleHeights(fine, {s.factor, s.smoothness_weight});  // step 1
-  result.ndfs = fitPatchNdfs(fine, s);                                        // step 2
-  const ScalingEstimator R(fine, result, base, s);                            // step 3
+  result.seconds.height = clock.lap();
+  result.ndfs = fitPatchNdfs(fine, s);  // step 2
+  result.seconds.ndfs = clock.lap();
+  const ScalingEstimator R(fine, result, base, s);  // step 3
   result.scaling = factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(),
                                     s.factorization, progress);  // step 4
+  result.seconds.scaling = clock.lap();
   return result;
 }
 

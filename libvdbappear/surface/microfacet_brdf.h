@@ -10,7 +10,7 @@
 namespace vdbappear {
 
 struct BrdfSample {
-  Vec3 wi;
+  Vec3 wi = Vec3::Zero();
   Rgb weight = Rgb::Zero();  // f(wo, wi) cos theta_i / pdf; zero when the sample left the hemisphere
   double pdf = 0;
 };

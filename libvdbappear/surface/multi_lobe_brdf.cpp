@@ -1,30 +1,76 @@
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace vdbappear {
 
-MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base, int samples_per_side) : base_(base) {
-  if (samples_per_side < 1) throw std::invalid_argument("MultiLobeBrdf: at least one sample per side");
-  const int n = samples_per_side;
-  for (const VmfLobe& lobe : ndf.lobes)
-    for (int b = 0; b < n; ++b)
-      for (int a = 0; a < n; ++a) {
-        const Vec3 w = sampleVmf(lobe.kappa, lobe.mu, Point2((a + 0.5) / n, (b + 0.5) / n));
-        normals_.push_back({Frame::fromNormal(w), lobe.amplitude / (double(n) * n)});
-      }
+namespace {
+constexpr int kMaxLobes = 16;
+}
+
+double MultiLobeBrdf::widenedRoughness(double alpha, double kappa) {
+  return std::min(1.0, std::sqrt(alpha * alpha + (kappa > 0 ? 2 / kappa : 1e30)));
+}
+
+MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base) {
+  if (ndf.lobes.size() > std::size_t(kMaxLobes)) throw std::invalid_argument("MultiLobeBrdf: at most 16 lobes");
+  const MicrofacetDistribution& d = base.distribution();
+  for (const VmfLobe& lobe : ndf.lobes) {
+    if (!(lobe.amplitude > 0)) continue;
+    const MicrofacetDistribution widened(d.kind(), widenedRoughness(d.alpha(), lobe.kappa));
+    lobes_.push_back({Frame::fromNormal(lobe.mu.normalized()), lobe.amplitude,
+                      MicrofacetBrdf(widened, base.specular(), base.diffuse())});
+  }
 }
 
 Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
   if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
   Rgb sum = Rgb::Zero();
-  for (const MicroNormal& m : normals_) {
-    const double cos_i = m.frame.n.dot(wi);  // <w, wi>, clamped by f's horizon below
+  for (const Lobe& l : lobes_) {
+    const double cos_i = l.frame.n.dot(wi);  // <mu_k, wi>
     if (cos_i <= 0) continue;
-    sum += base_.eval(m.frame.toLocal(wo), m.frame.toLocal(wi)) * (cos_i * m.weight);
+    sum += l.brdf.eval(l.frame.toLocal(wo), l.frame.toLocal(wi)) * (l.amplitude * cos_i);
   }
   return sum / wi.z();
+}
+
+bool MultiLobeBrdf::lobeProbabilities(const Vec3& wo, double* probability) const {
+  double total = 0;
+  for (std::size_t k = 0; k < lobes_.size(); ++k) {
+    probability[k] = lobes_[k].amplitude * std::max(0.0, lobes_[k].frame.n.dot(wo));
+    total += probability[k];
+  }
+  if (!(total > 0)) return false;
+  for (std::size_t k = 0; k < lobes_.size(); ++k) probability[k] /= total;
+  return true;
+}
+
+double MultiLobeBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
+  double probability[kMaxLobes];
+  if (wo.z() <= 0 || wi.z() <= 0 || !lobeProbabilities(wo, probability)) return 0;
+  double density = 0;
+  for (std::size_t k = 0; k < lobes_.size(); ++k)
+    if (probability[k] > 0) density += probability[k] * lobes_[k].brdf.pdf(lobes_[k].frame.toLocal(wo), lobes_[k].frame.toLocal(wi));
+  return density;
+}
+
+BrdfSample MultiLobeBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u) const {
+  double probability[kMaxLobes];
+  if (wo.z() <= 0 || !lobeProbabilities(wo, probability)) return {};
+  std::size_t k = 0;
+  while (k + 1 < lobes_.size() && u_lobe >= probability[k]) u_lobe -= probability[k++];
+  u_lobe = std::min(u_lobe / probability[k], 1 - 1e-16);  // reused for the base BRDF's lobe choice
+  const Lobe& l = lobes_[k];
+  const BrdfSample local = l.brdf.sample(l.frame.toLocal(wo), u_lobe, u);
+  BrdfSample s;
+  if (!(local.pdf > 0)) return s;
+  s.wi = l.frame.toWorld(local.wi);
+  if (s.wi.z() <= 0) return s;  // below the macro-surface: absorbed
+  s.pdf = pdf(wo, s.wi);
+  if (s.pdf > 0) s.weight = eval(s.wi, wo) * (s.wi.z() / s.pdf);
+  return s;
 }
 
 }  // namespace vdbappear

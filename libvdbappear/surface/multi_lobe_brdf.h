@@ -4,6 +4,15 @@
 //   rho(wi, wo; D, f) = 1 / cos theta_i int f(R_w(wi), R_w(wo)) <w, wi> D(w) dw,
 // the base BRDF f seen through micro-normals distributed as D, with no shadowing, masking or
 // interreflection (which the scaling function restores, Eq. 4.12-4.13).
+//
+// Evaluated in closed form, as Han et al. convolve lobes: each vMF lobe (alpha_k, kappa_k, mu_k) of
+// D is the base BRDF in the frame of mu_k with its roughness widened by the lobe's spread,
+//   rho ~ 1 / cos theta_i sum_k alpha_k <mu_k, wi> f_k(R_mu_k(wi), R_mu_k(wo)),
+//   f_k = f with alpha_k' = sqrt(alpha^2 + 2 / kappa_k) (slope variances add: a vMF of bandwidth
+//   kappa spreads normals by 1 / kappa per axis, a Beckmann or GGX lobe by alpha^2 / 2),
+// six microfacet evaluations per call, so that a renderer can afford it at every vertex. Exact for
+// narrow lobes; the scaling function is computed against this same f'_low, so what it leaves out
+// for wide lobes is part of what R corrects (docs/displacement.md §4).
 
 #include "libvdbappear/math/frame.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
@@ -15,22 +24,30 @@ namespace vdbappear {
 
 class MultiLobeBrdf {
  public:
-  // D's lobes are represented by samples_per_side^2 stratified micro-normals each (sampleVmf at
-  // cell-centred points of a grid on [0,1)^2), weighted alpha_k / samples: a fixed quadrature, so
-  // eval() is deterministic and smooth in wi and wo.
-  MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base, int samples_per_side = 16);
+  MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base);
 
-  // Eq. (4.5), wi and wo in the macro-surface's frame (n = +z); zero below its horizon. R_w takes
-  // directions into the frame of the micro-normal w, where f is evaluated.
+  // Eq. (4.5), wi (toward the light) and wo (toward the viewer) in the macro-surface's frame
+  // (n = +z); zero below its horizon.
   Rgb eval(const Vec3& wi, const Vec3& wo) const;
+  // wi drawn for a given wo: a lobe k with probability proportional to alpha_k <mu_k, wo>, then f_k's
+  // own sampling in mu_k's frame. weight = eval cos theta_i / pdf; zero (pdf 0) when wi falls below
+  // the macro-surface or no lobe faces wo.
+  BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
+  double pdf(const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
+
+  // alpha' of a lobe of bandwidth kappa over a base roughness alpha (capped at 1).
+  static double widenedRoughness(double alpha, double kappa);
 
  private:
-  struct MicroNormal {
-    Frame frame;
-    double weight;  // alpha_k / samples
+  struct Lobe {
+    Frame frame;  // about mu_k
+    double amplitude;
+    MicrofacetBrdf brdf;
   };
-  std::vector<MicroNormal> normals_;
-  MicrofacetBrdf base_;
+  // The lobes' selection probabilities for wo; false when none faces it.
+  bool lobeProbabilities(const Vec3& wo, double* probability) const;
+
+  std::vector<Lobe> lobes_;
 };
 
 }  // namespace vdbappear

@@ -23,7 +23,6 @@ DisplacementPrefilterSettings smallSettings() {
   DisplacementPrefilterSettings s;
   s.factor = 8;
   s.samples_per_side = 8;
-  s.lobe_quadrature = 6;
   s.factorization.spatial_resolution = 2;
   s.factorization.angular_resolution = 3;
   s.factorization.pairs_per_spatial_bin = 20;

@@ -37,7 +37,7 @@ TEST(EffectiveBrdf, FlatSurfaceHasScalingOne) {
     for (int i = 0; i <= 32; ++i) fine.at(i, j) = 0.1;
   const HeightField low = downsampleHeights(fine, {8, 0.01});
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.3), Rgb(0.9, 0.6, 0.3), Rgb(0.1, 0.2, 0.3));
-  const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, 8, 8, 8, 2), {}), base, 4);
+  const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, 8, 8, 8, 2), {}), base);
   const MicroGeometry original(fine), prefiltered(low);
   for (const auto& [wi, wo] : {std::pair{direction(30, 0), direction(40, 180)}, std::pair{direction(60, 45), direction(10, 90)},
                                std::pair{direction(75, 0), direction(75, 170)}}) {
@@ -94,7 +94,7 @@ TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
     double orig = 0, pref = 0;
     for (int v = 1; v <= 4; ++v)
       for (int u = 1; u <= 4; ++u) {
-        const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, u * 16, v * 16, 16, 2), {}), base, 6);
+        const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, u * 16, v * 16, 16, 2), {}), base);
         const PatchBrdf low_brdf = [&](const Vec3&, const Vec3&, const Vec3& i, const Vec3& o) { return f_low.eval(i, o); };
         const Vec3 wi = direction(theta, 0), wo = direction(theta, 180);
         const double o = effectiveBrdf(original, u * 16, v * 16, 16, microBrdf(base), wi, wo, {}).value[0];
@@ -104,7 +104,7 @@ TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
         orig += o;
         pref += p;
       }
-    // Measured: 0.83, 0.63 and 0.45 at 5, 45 and 65 degrees.
+    // Measured: 0.81, 0.61 and 0.45 at 5, 45 and 65 degrees.
     const double R = orig / pref;
     EXPECT_LT(R, 0.95 * previous) << "theta " << theta;
     previous = R;
