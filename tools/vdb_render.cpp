@@ -163,8 +163,9 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
     if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster, dweights or sss");
     scene.render.cluster_coverage = true;
   }
-  if (scene.medium.empty() && scene.meshes.empty() && !scene.ground)
-    throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene), a mesh, a translucent mesh or a ground");
+  if (scene.medium.empty() && scene.meshes.empty() && scene.height_fields.empty() && !scene.ground)
+    throw std::runtime_error("nothing to render: give a MEDIUM (or \"medium\" in --scene), a mesh, a translucent mesh, "
+                             "a height field or a ground");
   if (scene.render.spp < 1) throw std::runtime_error("--spp must be >= 1");
   return scene;
 }

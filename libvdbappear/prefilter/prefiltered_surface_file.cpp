@@ -1,6 +1,7 @@
 #include "libvdbappear/prefilter/prefiltered_surface_file.h"
 
 #include "libvdbappear/image/exr_file.h"
+#include "libvdbappear/image/height_map_file.h"
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/util/error.h"
@@ -40,14 +41,7 @@ float pixel(const ImageChannels& image, int column, int row, int channel) {
   return image.values[(std::size_t(row) * image.width + column) * image.names.size() + channel];
 }
 
-// Vertex or cell (i, j) is pixel (i, rows - 1 - j): the map reads upright from +z (§1).
-ImageChannels heightImage(const HeightField& h, double height_scale) {
-  ImageChannels image = emptyImage(h.verticesX(), h.verticesY(), {"Y"});
-  for (int j = 0; j < h.verticesY(); ++j)
-    for (int i = 0; i < h.verticesX(); ++i) pixel(image, i, h.verticesY() - 1 - j, 0) = float(h.at(i, j) / height_scale);
-  return image;
-}
-
+// Cell (u, v) is pixel (u, rows - 1 - v): the map reads upright from +z (§1).
 ImageChannels lobeImage(const std::vector<VmfMixture>& ndfs, int cells_x, int cells_y) {
   std::size_t lobes = 1;
   for (const VmfMixture& d : ndfs) lobes = std::max(lobes, d.lobes.size());
@@ -110,7 +104,7 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
   const PrefilteredSurface& s = file.surface;
   const int cells_x = s.height.cellsX(), cells_y = s.height.cellsY();
   const std::pair<std::string, ImageChannels> parts[] = {
-      {"height", heightImage(s.height, file.info.height_scale)},
+      {"height", heightMapImage(s.height, file.info.height_scale)},
       {"lobes", lobeImage(s.ndfs, cells_x, cells_y)},
       {"T", rgbTable(spatialRows(s.scaling.T), s.scaling.T.resolution)},
       {"S", rgbTable(s.scaling.S.values, s.scaling.S.resolution * s.scaling.S.resolution)}};

@@ -1,0 +1,184 @@
+// vdb_displacement_prefilter: a displacement map over a microfacet BRDF to a coarser map plus the
+// prefiltered SVBRDF that keeps its shadowing, masking and interreflection (chapter 4 of the
+// dissertation, §4.4-4.7; docs/displacement.md).
+#include "tool_main.h"
+
+#include "libvdbappear/image/height_map_file.h"
+#include "libvdbappear/io/history.h"
+#include "libvdbappear/prefilter/prefiltered_surface_file.h"
+#include "libvdbappear/render/scene_description.h"
+#include "libvdbappear/util/error.h"
+#include "libvdbappear/util/progress.h"
+#include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/version.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+using namespace vdbappear;
+
+namespace {
+
+constexpr const char* kTool = "vdb_displacement_prefilter";
+
+constexpr const char* kExamples = R"(Examples:
+  vdb_displacement_prefilter relief.exr relief_8x.json --factor 8
+  vdb_displacement_prefilter twill.exr twill_16x.json -f 16 --size 0.1 --height-scale 0.01 \
+      --brdf '{"distribution": "ggx", "roughness": 0.2, "specular": 0.04, "diffuse": [0.6, 0.1, 0.1]}'
+  vdb_displacement_prefilter noise.exr quick.json -f 8 --paths 256 --angular-resolution 9 --pairs 500 -v
+
+IN is a height map (docs/displacement.md §1): (n + 1)^2 pixels, the heights in its first channel.
+OUT.json is a manifest; OUT.height.exr (h_low), OUT.lobes.exr (six vMF lobes per coarse cell),
+OUT.T.exr and OUT.S.exr (the scaling function T(x) S(wi, wo), Eq. 4.21) are written beside it.
+The defaults are the chapter's sampling rates (§4.7.1); they take minutes to hours on a 1K map.)";
+
+struct Options {
+  std::string input, output, report, brdf = "{}";
+  double size = 1, height_scale = 1;
+  int paths = 2500;
+  DisplacementPrefilterSettings settings;
+  bool verbose = false;
+};
+
+// The map in world units (--size, --height-scale), with a factor that divides it.
+HeightField readHeightMapFor(const Options& o) {
+  HeightField field = readHeightMap(o.input, o.size, o.height_scale);
+  if (field.cellsX() % o.settings.factor != 0 || field.cellsY() % o.settings.factor != 0)
+    throw MediumError(fmt::format("{}: the factor {} does not divide the map's {} x {} cells (a map of (n + 1) x "
+                                  "(m + 1) pixels has n x m cells; try n a power of two)",
+                                  o.input, o.settings.factor, field.cellsX(), field.cellsY()));
+  return field;
+}
+
+// Bytes as Table 4.3 counts them: 32-bit floats.
+nlohmann::json storage(const HeightField& fine, const PrefilteredSurface& p) {
+  std::size_t lobes = 0;
+  for (const VmfMixture& d : p.ndfs) lobes = std::max(lobes, d.lobes.size());
+  const auto floats = [](std::size_t n) { return 4 * n; };
+  return {{"original_height", floats(std::size_t(fine.verticesX()) * fine.verticesY())},
+          {"height", floats(std::size_t(p.height.verticesX()) * p.height.verticesY())},
+          {"svndf", floats(p.ndfs.size() * lobes * 5)},
+          {"T", floats(3 * p.scaling.T.values.size())},
+          {"S", floats(3 * p.scaling.S.values.size())}};
+}
+
+int prefilter(const Options& o, const std::string& history) {
+  tool::checkOutputs(o.input, o.output, o.report);
+  for (const char* part : {"height", "lobes", "T", "S"})
+    tool::checkOutputs(o.input, prefilteredPartPath(o.output, part), "");
+  const MicrofacetBrdf base = brdfFromJson(nlohmann::json::parse(o.brdf), "--brdf", "brdf");
+  Stopwatch clock;
+  const HeightField fine = readHeightMapFor(o);
+  const double read_seconds = clock.lap();
+
+  DisplacementPrefilterSettings settings = o.settings;
+  settings.samples_per_side = std::max(1, int(std::lround(std::sqrt(double(o.paths)))));
+  PrefilteredSurfaceFile file{{}, base, {o.input, settings.factor, o.size, o.height_scale, settings.scaling}};
+  {
+    ProgressBar progress("scaling tables", 0);
+    file.surface = prefilterDisplacement(fine, base, settings, &progress);
+  }
+  const PrefilteredSurface& p = file.surface;
+  const auto& f = settings.factorization;
+  const nlohmann::json recorded = {
+      {"history", history},
+      {"paths_per_estimate", settings.samples_per_side * settings.samples_per_side},
+      {"lobes", settings.ndf.lobes},
+      {"smoothness_weight", settings.smoothness_weight},
+      {"pairs_per_spatial_bin", f.pairs_per_spatial_bin},
+      {"positions_per_angular_bin", f.positions_per_angular_bin},
+      {"max_theta_degrees", f.max_theta_degrees},
+      {"seed", settings.seed},
+      {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
+  writePrefilteredSurface(file, o.output, recorded);
+  const double write_seconds = clock.lap() - p.seconds.height - p.seconds.ndfs - p.seconds.scaling;
+  const nlohmann::json bytes = storage(fine, p);
+  if (o.verbose)
+    fmt::print(stderr,
+               "{}: {} -> {}: {} x {} cells -> {} x {} (factor {}), {} lobes per cell, T {}^2, S {}^4\n"
+               "{}: bytes: original {}, h_low {}, SVNDF {}, T {}, S {}\n"
+               "{}: seconds: read {:.2f}, h_low {:.2f}, NDFs {:.2f}, scaling {:.2f}, write {:.2f}\n",
+               kTool, o.input, o.output, fine.cellsX(), fine.cellsY(), p.height.cellsX(), p.height.cellsY(),
+               settings.factor, settings.ndf.lobes, f.spatial_resolution, f.angular_resolution, kTool,
+               bytes["original_height"].get<std::size_t>(), bytes["height"].get<std::size_t>(),
+               bytes["svndf"].get<std::size_t>(), bytes["T"].get<std::size_t>(), bytes["S"].get<std::size_t>(), kTool,
+               read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds);
+  if (!o.report.empty())
+    tool::writeJsonReport(o.report, {{"tool", kTool},
+                                     {"version", kVersion},
+                                     {"input", o.input},
+                                     {"output", o.output},
+                                     {"factor", settings.factor},
+                                     {"cells", {fine.cellsX(), fine.cellsY()}},
+                                     {"bytes", bytes},
+                                     {"settings", recorded}});
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Prefilters a displacement map over a microfacet BRDF (dissertation ch. 4): a map F times coarser "
+               "per side plus six vMF lobes per coarse cell and a factorised scaling function for shadowing, "
+               "masking and interreflection.",
+               kTool);
+  app.footer(kExamples);
+  app.set_version_flag("--version", kVersion);
+  Options o;
+  DisplacementPrefilterSettings& s = o.settings;
+  app.add_option("IN", o.input, "height map (EXR or any image; first channel)")->required();
+  app.add_option("OUT", o.output, "output manifest (.json); its images are written beside it")
+      ->required()
+      ->check([](const std::string& path) {
+        return path.size() > 5 && path.substr(path.size() - 5) == ".json" ? "" : "OUT must end in .json";
+      });
+  app.add_option("-f,--factor", s.factor, "coarse cell side in fine cells; divides the map's cells (Table 4.3: 8 to 64)")
+      ->check(CLI::Range(2, 4096))
+      ->capture_default_str();
+  app.add_option("--size", o.size, "world width of the map, as the scene's \"size\"")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--height-scale", o.height_scale, "the map's heights times this are world units")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--brdf", o.brdf, "base micro-BRDF f_orig as JSON: {\"distribution\": \"ggx\"|\"beckmann\", \"roughness\", "
+                                   "\"specular\", \"diffuse\"} (defaults ggx, 0.3, 0.04, 0)");
+  const std::map<std::string, ScalingKind> kinds{{"interreflection", ScalingKind::Interreflection},
+                                                 {"shadowing", ScalingKind::Shadowing}};
+  app.add_option("--scaling", s.scaling, "interreflection (R_ir, Eq. 4.20) or shadowing (R, Eq. 4.12: masking and shadowing only)")
+      ->transform(CLI::CheckedTransformer(kinds, CLI::ignore_case))
+      ->default_str("interreflection");
+  app.add_option("--lobes", s.ndf.lobes, "vMF lobes per coarse cell")->check(CLI::Range(1, 16))->capture_default_str();
+  app.add_option("--smoothness", s.smoothness_weight, "w of Eq. 4.10")->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--paths", o.paths, "paths (base positions) per effective-BRDF estimate; rounded to a square")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  app.add_option("--spatial-resolution", s.factorization.spatial_resolution, "M: T has M x M bins")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  app.add_option("--angular-resolution", s.factorization.angular_resolution, "N: S has N^2 x N^2 bins")
+      ->check(CLI::Range(1, 32))
+      ->capture_default_str();
+  app.add_option("--pairs", s.factorization.pairs_per_spatial_bin, "direction pairs per T bin")
+      ->check(CLI::Range(1, 10000000))
+      ->capture_default_str();
+  app.add_option("--positions", s.factorization.positions_per_angular_bin, "stratified positions per S bin")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  app.add_option("--max-theta", s.factorization.max_theta_degrees,
+                 "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
+      ->check(CLI::Range(1.0, 89.0))
+      ->capture_default_str();
+  app.add_option("--seed", s.seed, "random seed (same output for any thread count)")->capture_default_str();
+  app.add_flag("-v,--verbose", o.verbose, "print sizes, bytes per part and timings to stderr");
+  app.add_option("--report", o.report, "write a JSON report (bytes per part, timings) to this file");
+  tool::ThreadLimit threads(app);
+
+  const std::string history = historyLine(kTool, argc, argv);
+  return tool::run(app, argc, argv, [&] {
+    threads.apply();
+    s.factorization.seed = s.seed;
+    s.ndf.seed = s.seed;
+    return prefilter(o, history);
+  });
+}
