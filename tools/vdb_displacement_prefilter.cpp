@@ -64,6 +64,17 @@ nlohmann::json storage(const HeightField& fine, const PrefilteredSurface& p) {
           {"S", floats(3 * p.scaling.S.values.size())}};
 }
 
+// The range of a table's first channel (min, mean, max): what a user checks first.
+nlohmann::json tableRange(const std::vector<Rgb>& values) {
+  double lo = 1e300, hi = -1e300, sum = 0;
+  for (const Rgb& v : values) {
+    lo = std::min(lo, v.minCoeff());
+    hi = std::max(hi, v.maxCoeff());
+    sum += v.mean();
+  }
+  return {{"min", lo}, {"mean", sum / double(values.size())}, {"max", hi}};
+}
+
 int prefilter(const Options& o, const std::string& history) {
   tool::checkOutputs(o.input, o.output, o.report);
   for (const char* part : {"height", "lobes", "T", "S"})
@@ -95,16 +106,20 @@ int prefilter(const Options& o, const std::string& history) {
   writePrefilteredSurface(file, o.output, recorded);
   const double write_seconds = clock.lap() - p.seconds.height - p.seconds.ndfs - p.seconds.scaling;
   const nlohmann::json bytes = storage(fine, p);
+  const nlohmann::json ranges = {{"T", tableRange(p.scaling.T.values)}, {"S", tableRange(p.scaling.S.values)}};
   if (o.verbose)
     fmt::print(stderr,
                "{}: {} -> {}: {} x {} cells -> {} x {} (factor {}), {} lobes per cell, T {}^2, S {}^4\n"
                "{}: bytes: original {}, h_low {}, SVNDF {}, T {}, S {}\n"
-               "{}: seconds: read {:.2f}, h_low {:.2f}, NDFs {:.2f}, scaling {:.2f}, write {:.2f}\n",
+               "{}: seconds: read {:.2f}, h_low {:.2f}, NDFs {:.2f}, scaling {:.2f}, write {:.2f}\n"
+               "{}: T {:.3g} to {:.3g}, S {:.3g} to {:.3g} (mean {:.3g})\n",
                kTool, o.input, o.output, fine.cellsX(), fine.cellsY(), p.height.cellsX(), p.height.cellsY(),
                settings.factor, settings.ndf.lobes, f.spatial_resolution, f.angular_resolution, kTool,
                bytes["original_height"].get<std::size_t>(), bytes["height"].get<std::size_t>(),
                bytes["svndf"].get<std::size_t>(), bytes["T"].get<std::size_t>(), bytes["S"].get<std::size_t>(), kTool,
-               read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds);
+               read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds, kTool,
+               ranges["T"]["min"].get<double>(), ranges["T"]["max"].get<double>(), ranges["S"]["min"].get<double>(),
+               ranges["S"]["max"].get<double>(), ranges["S"]["mean"].get<double>());
   if (!o.report.empty())
     tool::writeJsonReport(o.report, {{"tool", kTool},
                                      {"version", kVersion},
@@ -113,6 +128,7 @@ int prefilter(const Options& o, const std::string& history) {
                                      {"factor", settings.factor},
                                      {"cells", {fine.cellsX(), fine.cellsY()}},
                                      {"bytes", bytes},
+                                     {"scaling", ranges},
                                      {"settings", recorded}});
   return 0;
 }

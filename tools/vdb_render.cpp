@@ -6,6 +6,7 @@
 #include "libvdbappear/io/sh_light_grid_file.h"
 #include "libvdbappear/lightgrid/sh_grid_lookup.h"
 #include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/prefilter/prefiltered_surface_file.h"
 #include "libvdbappear/render/render_output.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/render/subsurface_passes.h"
@@ -323,7 +324,7 @@ int main(int argc, char** argv) {
     const bool translucent = std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const MeshDescription& m) { return bool(m.translucent); });
     if (outputs.subsurface && !translucent) throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
     if (outputs.subsurface) checkSubsurfaceChannelMemory(scene.render.width, scene.render.height);
-    RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage);
+    RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage, readPrefilteredSurface);
     if (!flags.sh_lightgrid.empty()) {
       render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
       render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear

@@ -28,7 +28,8 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
 }
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
-// its F x F fine cells over the prefiltered model's on the coarse cell. f'_low does not depend on
+// its F x F fine cells, and the prefiltered model's on the coarse cell, each times its patch's
+// visible projected area. f'_low does not depend on
 // the point (its lobes are in the base frame), so f_eff(G_low, f'_low) = f'_low(wi, wo) times the
 // effective BRDF of G_low with f = 1, which is what is estimated.
 class ScalingEstimator {
@@ -39,23 +40,25 @@ class ScalingEstimator {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
   }
 
-  Rgb operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
+  ScalingSample operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
     const int F = s_.factor;
     const std::uint64_t seed = s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40);
-    Rgb original;
+    EffectiveBrdf original;
     if (s_.scaling == ScalingKind::Interreflection) {
       MultiBounceSettings m;
       m.samples_per_side = s_.samples_per_side;
       m.max_vertices = s_.max_vertices;
       m.seed = seed;
-      original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m).value;
+      original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m);
     } else {
-      original = effectiveBrdf(original_, u * F, v * F, F, microBrdf(), wi, wo, single(seed)).value;
+      original = effectiveBrdf(original_, u * F, v * F, F, microBrdf(), wi, wo, single(seed));
     }
     const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
-    const Rgb geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed)).value;
+    const EffectiveBrdf geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed));
     const MultiLobeBrdf& f_low = f_low_[std::size_t(u) + std::size_t(prefiltered_.field().cellsX()) * v];
-    return original / (f_low.eval(wi, wo) * geometry + 1e-6);  // footnote 2's epsilon
+    // Each weighted by its visible projected area toward wo (Eq. 4.8): the light the patch sends
+    // toward the viewer, which is what a bin's sums compare (scaling_factorization.h).
+    return {original.value * original.visible_area, f_low.eval(wi, wo) * geometry.value * geometry.visible_area};
   }
 
  private:

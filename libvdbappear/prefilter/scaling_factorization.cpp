@@ -19,38 +19,46 @@ std::pair<int, int> cellAt(const Point2& x, int cells_x, int cells_y) {
   return {std::clamp(int(x.x() * cells_x), 0, cells_x - 1), std::clamp(int(x.y() * cells_y), 0, cells_y - 1)};
 }
 
-// T's bin (a, b) before normalisation: R averaged over uniform positions in the bin and
-// cosine-weighted direction pairs (§4.7.1).
+void add(ScalingSample* sum, const ScalingSample& sample) {
+  sum->original += sample.original;
+  sum->prefiltered += sample.prefiltered;
+}
+
+// A bin's R: the samples' weighted mean, sum(original) / sum(prefiltered).
+Rgb ratio(const ScalingSample& sum, double epsilon) { return (sum.original + epsilon) / (sum.prefiltered + epsilon); }
+
+// T's bin (a, b) before normalisation: R over uniform positions in the bin and cosine-weighted
+// direction pairs (§4.7.1).
 Rgb spatialBin(const ScalingSampler& R, int a, int b, int cells_x, int cells_y, const FactorizationSettings& s) {
   const int M = s.spatial_resolution;
   const double max_theta = s.max_theta_degrees * kPi / 180;
   RandomStream rng(s.seed, {0, a, b});
-  Rgb sum = Rgb::Zero();
+  ScalingSample sum;
   for (int k = 0; k < s.pairs_per_spatial_bin; ++k) {
     const Point2 u = rng.uniform2();
     const auto [cu, cv] = cellAt(Point2((a + u.x()) / M, (b + u.y()) / M), cells_x, cells_y);
     const Vec3 wi = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
     const Vec3 wo = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
-    sum += R(cu, cv, wi, wo);
+    add(&sum, R(cu, cv, wi, wo));
   }
-  return sum / double(s.pairs_per_spatial_bin);
+  return ratio(sum, s.epsilon);
 }
 
-// S's bin: R at the bins' directions averaged over positions stratified over the whole map.
+// S's bin: R at the bins' directions over positions stratified over the whole map.
 Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::size_t bin, int cells_x, int cells_y,
                const FactorizationSettings& s) {
   const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
   const int count = s.positions_per_angular_bin;
   RandomStream rng(s.seed, {1, std::int64_t(bin)});
-  Rgb sum = Rgb::Zero();
+  ScalingSample sum;
   for (int k = 0; k < count; ++k) {
     const int stratum = k % (strata * strata);
     const Point2 u = rng.uniform2();
     const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    sum += R(cu, cv, wi, wo);
+    add(&sum, R(cu, cv, wi, wo));
   }
-  return sum / double(count);
+  return ratio(sum, s.epsilon);
 }
 
 }  // namespace

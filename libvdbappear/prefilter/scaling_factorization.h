@@ -7,6 +7,14 @@
 // T's bins average R over random positions in the bin and direction pairs drawn cosine-weighted,
 // then are scaled to average one; S's bins average R at the bin's directions over stratified
 // positions of the whole map. Their product reproduces a separable R exactly (Appendix B.2).
+//
+// Each average is weighted by R's denominator: a bin is sum(original) / sum(prefiltered) over its
+// samples, the scaling that gives the samples together the original's reflected light. The plain
+// mean of ratios that Eq. (4.22)-(4.24) write is ruled by the samples where the coarse cell barely
+// reflects (it faces away from the light while some of its micro-facets do not): on the relief of
+// vdb_make_height_map such bins reached 1e5. prefilterDisplacement() passes each effective BRDF
+// times its patch's visible projected area (Eq. 4.8), so that the patches count as they do in an
+// image: by the area they show the viewer.
 
 #include "libvdbappear/prefilter/scaling_tables.h"
 
@@ -17,8 +25,14 @@ namespace vdbappear {
 
 class ProgressBar;
 
-// R_ir at coarse cell (u, v) for a direction pair (Eq. 4.12 or 4.20); called from several threads.
-using ScalingSampler = std::function<Rgb(int u, int v, const Vec3& wi, const Vec3& wo)>;
+// R_ir = original / prefiltered at coarse cell (u, v) for a direction pair (Eq. 4.12 or 4.20): the
+// two effective BRDFs, kept apart.
+struct ScalingSample {
+  Rgb original = Rgb::Zero();     // f_eff or f_ir_eff of G_orig with f_orig (times a weight)
+  Rgb prefiltered = Rgb::Zero();  // f_eff of G_low with f'_low (times the same or a like weight)
+};
+// Called from several threads.
+using ScalingSampler = std::function<ScalingSample(int u, int v, const Vec3& wi, const Vec3& wo)>;
 
 struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   int spatial_resolution = 4;         // M
@@ -27,6 +41,7 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   int positions_per_angular_bin = 16; // stratified p per S bin
   // Footnote 5: R is unstable near grazing; directions beyond this are evaluated at it (same azimuth).
   double max_theta_degrees = 75;
+  double epsilon = 1e-6;  // footnote 2: added to both sums of a bin, so that 0 / 0 gives 1
   std::uint64_t seed = 1;
 };
 

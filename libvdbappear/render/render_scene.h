@@ -8,13 +8,27 @@
 #include "libvdbappear/render/surface_scene.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 
+#include <cmath>
 #include <memory>
 #include <vector>
 
 namespace vdbappear {
 
+class PrefilteredBrdf;
 class ShGridLookup;
 class TranslucentObject;
+
+// A prefiltered displacement map as placed in the scene: its SVBRDF and where its tiles lie.
+struct PrefilteredPlacement {
+  std::shared_ptr<const PrefilteredBrdf> brdf;
+  Vec3 origin = Vec3::Zero();  // vertex (0, 0) of the first tile at height 0
+  double size = 1;             // of one tile along x and y
+  // The base position in [0,1)^2 of the tile under world point p.
+  Point2 mapPosition(const Vec3& p) const {
+    const double x = (p.x() - origin.x()) / size, y = (p.y() - origin.y()) / size;
+    return {x - std::floor(x), y - std::floor(y)};
+  }
+};
 
 struct RenderScene {
   std::shared_ptr<const MediumView> medium;      // may be null: surfaces only
@@ -24,6 +38,7 @@ struct RenderScene {
   std::vector<std::unique_ptr<Light>> lights;    // area lights too; SurfaceHit::light indexes this
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   std::vector<MicrofacetBrdf> brdfs;             // of the glossy surfaces; SurfaceHit::brdf indexes this
+  std::vector<PrefilteredPlacement> prefiltered; // SurfaceHit::prefiltered indexes this
   // Closed meshes whose light leaves by the dipole (subsurface/); SurfaceHit::translucent indexes this.
   std::vector<std::shared_ptr<TranslucentObject>> translucent;  // read-only while rendering
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)

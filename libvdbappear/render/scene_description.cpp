@@ -1,5 +1,7 @@
 #include "libvdbappear/render/scene_description.h"
 
+#include "libvdbappear/prefilter/prefiltered_brdf.h"
+#include "libvdbappear/prefilter/prefiltered_surface_file.h"
 #include "libvdbappear/render/area_light.h"
 #include "libvdbappear/render/direct_irradiance.h"
 #include "libvdbappear/render/environment_light.h"
@@ -143,10 +145,17 @@ namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
-  checkKeys(h, {"file", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
-  if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\"");
+  checkKeys(h, {"file", "prefiltered", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
   HeightFieldDescription field;
-  field.file = resolve(folder, h["file"].get<std::string>());
+  if (h.contains("prefiltered")) {
+    if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
+    for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
+      if (h.contains(key)) fail(source, where + "." + key, "not with \"prefiltered\" (the manifest gives it)");
+    field.prefiltered = resolve(folder, h["prefiltered"].get<std::string>());
+  } else {
+    if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\" or \"prefiltered\"");
+    field.file = resolve(folder, h["file"].get<std::string>());
+  }
   if (h.contains("size")) field.size = numberOf<double>(h["size"], source, where + ".size");
   if (!(field.size > 0) || !std::isfinite(field.size)) fail(source, where + ".size", "must be positive");
   if (h.contains("origin")) field.placement.origin = vec3Of(h["origin"], source, where + ".origin");
@@ -378,6 +387,20 @@ HeightField readHeightField(const HeightFieldDescription& field, const ImageRead
   return heightFieldFromImage(image, field.size / std::max(1, image.width - 1), field.file);
 }
 
+// h_low of a prefiltered map, tessellated as a height field (its heights are world units), and its
+// SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
+void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
+  if (!read) throw std::runtime_error(field.prefiltered + ": no reader for prefiltered displacement maps");
+  const PrefilteredSurfaceFile file = read(field.prefiltered);
+  HeightFieldPlacement placement = field.placement;
+  placement.height_scale = 1;
+  const std::vector<Triangle> triangles = heightFieldTriangles(file.surface.height, placement);
+  for (const Triangle& t : triangles)
+    for (const Vec3& v : t) bounds->extend(v);
+  scene->prefiltered.push_back({std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size});
+  scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1));
+}
+
 // Pass 1 of a translucent object: irradiance samples at the centroids of its faces, split to the
 // sample spacing, lit by the scene built so far (docs/subsurface.md §2).
 std::shared_ptr<TranslucentObject> translucentObject(const std::string& file, const TranslucentMaterial& material,
@@ -403,7 +426,7 @@ std::shared_ptr<TranslucentObject> translucentObject(const std::string& file, co
 }  // namespace
 
 RenderScene buildRenderScene(const SceneDescription& description, std::shared_ptr<const MediumView> medium,
-                             const ImageReader& read_image) {
+                             const ImageReader& read_image, const PrefilteredReader& read_prefiltered) {
   RenderScene scene;
   scene.medium = std::move(medium);
   const Aabb bounds = scene.medium ? scene.medium->worldBounds() : Aabb();
@@ -436,6 +459,10 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
     translucent.emplace_back(&mesh, std::move(triangles));
   }
   for (const HeightFieldDescription& field : description.height_fields) {
+    if (!field.prefiltered.empty()) {
+      addPrefiltered(field, read_prefiltered, &scene, &everything);
+      continue;
+    }
     const std::vector<Triangle> triangles = heightFieldTriangles(readHeightField(field, read_image), field.placement);
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) everything.extend(v);

@@ -28,6 +28,8 @@
 
 namespace vdbappear {
 
+struct PrefilteredSurfaceFile;
+
 // "brdf": {"distribution": "ggx" | "beckmann", "roughness": ALPHA, "specular": F0 | [r,g,b],
 // "diffuse": A | [r,g,b]} makes a surface glossy (surface/microfacet_brdf.h; defaults ggx, 0.3,
 // 0.04, 0); without it a surface is Lambertian of its "albedo".
@@ -49,8 +51,12 @@ struct GroundDescription {
 // "height_fields": [{"file": "bumps.exr", "size": S, "origin": [x,y,z], "height_scale": K,
 // "tiles": [nx, ny], "albedo" | "brdf"}]: a displacement map (first channel; docs/displacement.md)
 // as a surface facing +z, one tile S wide along x, tessellated at its full resolution.
+// Or {"prefiltered": "relief_8x.json", "origin", "tiles"}: a map prefiltered by
+// vdb_displacement_prefilter (docs/displacement.md §6, §8), h_low shaded by its SVBRDF; its size,
+// height scale and base BRDF come from the manifest.
 struct HeightFieldDescription {
   std::string file;
+  std::string prefiltered;  // the manifest, instead of file
   double size = 1;
   HeightFieldPlacement placement;
   Rgb albedo = Rgb::Constant(0.5);
@@ -100,8 +106,11 @@ void applySceneJson(const nlohmann::json& json, const std::string& folder, const
 // samples; render/direct_irradiance.h). read_image loads environment maps (the image library's
 // readRgbImage in tools). The camera is framed with --view on the medium's bounds when asked.
 using ImageReader = std::function<RgbImage(const std::string&)>;
+// Reads a prefiltered displacement map's manifest and parts (the image library's
+// readPrefilteredSurface in tools).
+using PrefilteredReader = std::function<PrefilteredSurfaceFile(const std::string&)>;
 RenderScene buildRenderScene(const SceneDescription& scene, std::shared_ptr<const MediumView> medium,
-                             const ImageReader& read_image);
+                             const ImageReader& read_image, const PrefilteredReader& read_prefiltered = {});
 CameraPose cameraOf(const SceneDescription& scene, const MediumView* medium);
 
 // The scene's area lights (quad, polygon, triangle) as polygons, in file order, each checked by

@@ -18,6 +18,7 @@ struct GeometryInfo {
   int light = -1;
   int translucent = -1;
   int brdf = -1;
+  int prefiltered = -1;
   std::vector<Vec3> normals;  // per triangle
 };
 
@@ -70,19 +71,23 @@ SurfaceScene::~SurfaceScene() {
 }
 
 void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo) {
-  impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, {}});
+  impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, -1, {}});
 }
 
 void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}});
+}
+
+void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}});
 }
 
 void SurfaceScene::addLight(const std::vector<Triangle>& triangles, int light_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, -1, -1, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), light_index, -1, -1, -1, {}});
 }
 
 void SurfaceScene::addTranslucent(const std::vector<Triangle>& triangles, int object_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, -1, {}});
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, -1, -1, {}});
 }
 
 void SurfaceScene::commit() {
@@ -122,7 +127,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   rtcIntersect1(impl_->scene, &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const GeometryInfo& info = impl_->geometries[hit.hit.geomID];
-  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf};
+  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf, info.prefiltered};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const {

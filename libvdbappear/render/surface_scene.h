@@ -20,6 +20,7 @@ struct SurfaceHit {
   int light = -1;     // index of the area light hit, or -1
   int translucent = -1;  // index of the translucent object hit (RenderScene::translucent), or -1
   int brdf = -1;         // index of a glossy mesh's microfacet BRDF (RenderScene::brdfs), or -1
+  int prefiltered = -1;  // index of a prefiltered displacement map (RenderScene::prefiltered), or -1
 };
 
 class SurfaceScene {
@@ -31,6 +32,7 @@ class SurfaceScene {
 
   void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
   void addGlossy(const std::vector<Triangle>& triangles, int brdf_index);
+  void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index);
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // after the last add, before any query

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/frame.h"
+#include "libvdbappear/prefilter/prefiltered_brdf.h"
 #include "libvdbappear/math/sampling.h"
 #include "libvdbappear/lightgrid/sh_irradiance.h"
 #include "libvdbappear/lightgrid/sh_grid_lookup.h"
@@ -47,11 +48,17 @@ struct VolumePathTracer::Vertex {
   Rgb albedo;
   const MicrofacetBrdf* brdf = nullptr;  // glossy surfaces
   Frame frame;                           // glossy surfaces: about normal
+  // Prefiltered displacement maps: the SVBRDF, in the map's base frame (world, z up), at base
+  // position map_x; the cosine is the coarse surface's (docs/displacement.md §8).
+  const PrefilteredBrdf* prefiltered = nullptr;
+  Point2 map_x;
 
+  bool lambertian() const { return on_surface && !brdf && !prefiltered; }
   Rgb eval(const Vec3& wo) const {
     if (!on_surface) return medium.eval(wi, wo);
     const double cos_o = std::max(0.0, normal.dot(wo));
     if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
+    if (prefiltered) return cos_o > 0 ? Rgb(prefiltered->eval(map_x, wo, wi) * cos_o) : Rgb(Rgb::Zero());
     return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
@@ -59,6 +66,7 @@ struct VolumePathTracer::Vertex {
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const {
     if (!on_surface) return medium.pdf(wi, wo);
+    if (prefiltered) return prefiltered->pdf(map_x, wi, wo);
     return brdf ? brdf->pdf(frame.toLocal(wi), frame.toLocal(wo)) : cosineHemispherePdf(normal.dot(wo));
   }
   // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
@@ -69,6 +77,11 @@ struct VolumePathTracer::Vertex {
     if (brdf) {
       const BrdfSample s = brdf->sample(frame.toLocal(wi), u_lobe, u);
       return {frame.toWorld(s.wi), s.pdf, s.weight};
+    }
+    if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
+      const BrdfSample s = prefiltered->sample(map_x, wi, u_lobe, u);
+      if (!(s.pdf > 0)) return {s.wi, 0, Rgb::Zero()};
+      return {s.wi, s.pdf, eval(s.wi) / s.pdf};
     }
     const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
     const double pdf = cosineHemispherePdf(normal.dot(wo));
@@ -143,7 +156,7 @@ Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, Medi
   const std::vector<Vec3> coeffs = grid.interpolate(vertex.p, scene_.sh_interpolation);
   Rgb L;
   Vec3 shadow_direction = Vec3::Zero();
-  if (vertex.on_surface && !vertex.brdf) {
+  if (vertex.lambertian()) {
     L = vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
   } else if (const std::optional<Rgb> closed_form = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
     L = *closed_form;
@@ -239,6 +252,12 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       vertex.albedo = hit->albedo;
       vertex.brdf = hit->brdf >= 0 ? &scene_.brdfs[std::size_t(hit->brdf)] : nullptr;
       if (vertex.brdf) vertex.frame = Frame::fromNormal(vertex.normal);
+      vertex.prefiltered = nullptr;
+      if (hit->prefiltered >= 0) {
+        const PrefilteredPlacement& placement = scene_.prefiltered[std::size_t(hit->prefiltered)];
+        vertex.prefiltered = placement.brdf.get();
+        vertex.map_x = placement.mapPosition(vertex.p);
+      }
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);
       result.L += beta * escaped;

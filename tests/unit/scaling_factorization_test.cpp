@@ -78,7 +78,8 @@ double relativeRmsError(const FactorizedScaling& factors, const ScalingSampler& 
     const double ua = random.uniform(), ub = random.uniform(), oa = random.uniform(), ob = random.uniform();
     const Vec3 wi = limitPolarAngle(sampleCosineHemisphere(Point2(ua, ub)), 75 * kPi / 180);
     const Vec3 wo = limitPolarAngle(sampleCosineHemisphere(Point2(oa, ob)), 75 * kPi / 180);
-    const double r = R(u, v, wi, wo)[0], approx = factors(Point2((u + 0.5) / 16, (v + 0.5) / 16), wi, wo)[0];
+    const ScalingSample sample = R(u, v, wi, wo);
+    const double r = sample.original[0] / sample.prefiltered[0], approx = factors(Point2((u + 0.5) / 16, (v + 0.5) / 16), wi, wo)[0];
     sum += (approx / r - 1) * (approx / r - 1);
   }
   return std::sqrt(sum / count);
@@ -96,7 +97,7 @@ FactorizationSettings smallTables() {
 // sampling of the positions and the angular table's interpolation.
 TEST(ScalingFactorization, SeparableScalingIsReproduced) {
   const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
-    return Rgb::Constant(spatialFactor(u, v) * angularFactor(wi, wo));
+    return ScalingSample{Rgb::Constant(spatialFactor(u, v) * angularFactor(wi, wo)), Rgb::Ones()};
   };
   const FactorizedScaling factors = factorizeScaling(R, 16, 16, smallTables());
   double mean = 0, t_mean = 0;
@@ -119,7 +120,7 @@ TEST(ScalingFactorization, SeparableScalingIsReproduced) {
 // cannot follow it (the chapter's Fig. 4.6 measures how small this part is for real surfaces).
 TEST(ScalingFactorization, NonSeparableScalingIsNot) {
   const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
-    return Rgb::Constant(angularFactor(wi, wo) + 0.5 * std::sin(u * 0.4 + v * 0.1) * wi.x());
+    return ScalingSample{Rgb::Constant(angularFactor(wi, wo) + 0.5 * std::sin(u * 0.4 + v * 0.1) * wi.x()), Rgb::Ones()};
   };
   // Measured: 0.25.
   EXPECT_GT(relativeRmsError(factorizeScaling(R, 16, 16, smallTables()), R), 0.15);
@@ -127,7 +128,8 @@ TEST(ScalingFactorization, NonSeparableScalingIsNot) {
 
 TEST(ScalingFactorization, SameTablesOnOneThreadAndMany) {
   const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
-    return Rgb(spatialFactor(u, v), angularFactor(wi, wo), spatialFactor(v, u) * angularFactor(wo, wi));
+    return ScalingSample{Rgb(spatialFactor(u, v), angularFactor(wi, wo), spatialFactor(v, u) * angularFactor(wo, wi)),
+                         Rgb(1, 0.5, 2)};
   };
   FactorizationSettings s = smallTables();
   s.angular_resolution = 5;

@@ -1,0 +1,32 @@
+#pragma once
+// The prefiltered SVBRDF of the displacement chapter (shared/papers/002_6a636dc24396287c.txt):
+//   f_low(x, wi, wo) = T(x) S(wi, wo) f'_low(x, wi, wo)        (Eq. 4.13, 4.18 with R of Eq. 4.21),
+// f'_low the multi-lobe BRDF of the coarse cell under x (Eq. 4.11), directions in the map's base
+// frame (n = +z), wi toward the light and wo toward the viewer. What vdb_render shades a
+// prefiltered displacement map with; sampling follows f'_low.
+
+#include "libvdbappear/prefilter/displacement_prefilter.h"
+#include "libvdbappear/surface/multi_lobe_brdf.h"
+
+#include <vector>
+
+namespace vdbappear {
+
+class PrefilteredBrdf {
+ public:
+  PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base);
+
+  // x: the base position on the map, in [0,1]^2 (clamped).
+  Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo) const;
+  BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const;  // wi by f'_low
+  double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;
+
+ private:
+  const MultiLobeBrdf& cellAt(const Point2& x) const;
+
+  std::vector<MultiLobeBrdf> cells_;  // cell (u, v) at u + cells_x v
+  int cells_x_, cells_y_;
+  FactorizedScaling scaling_;
+};
+
+}  // namespace vdbappear
