@@ -79,7 +79,13 @@ int prefilter(const Options& o, const std::string& history) {
   tool::checkOutputs(o.input, o.output, o.report);
   for (const char* part : {"height", "lobes", "T", "S"})
     tool::checkOutputs(o.input, prefilteredPartPath(o.output, part), "");
-  const MicrofacetBrdf base = brdfFromJson(nlohmann::json::parse(o.brdf), "--brdf", "brdf");
+  nlohmann::json brdf;
+  try {
+    brdf = nlohmann::json::parse(o.brdf);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("--brdf: not a JSON object: {}", e.what()));
+  }
+  const MicrofacetBrdf base = brdfFromJson(brdf, "--brdf", "brdf");
   Stopwatch clock;
   const HeightField fine = readHeightMapFor(o);
   const double read_seconds = clock.lap();
