@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity subsurface clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity subsurface displacement clean
 
 all: build
 
@@ -98,7 +98,12 @@ modularity: build
 subsurface: build
 	@scripts/subsurface_experiment.py --build $(BUILD_DIR)
 
+# Displacement-map prefiltering (issue 23): reference, naive, multi-lobe and full models of three
+# procedural surfaces at two scales, under direct light and global illumination; equal time; storage.
+displacement: build
+	@scripts/displacement_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out subsurface-out fuzz-out media
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out subsurface-out displacement-out fuzz-out media
 
 include scripts/media.mk

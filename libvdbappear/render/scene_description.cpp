@@ -145,14 +145,19 @@ namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
-  checkKeys(h, {"file", "prefiltered", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
+  checkKeys(h, {"file", "prefiltered", "scaling", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
   HeightFieldDescription field;
   if (h.contains("prefiltered")) {
     if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
     for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
       if (h.contains(key)) fail(source, where + "." + key, "not with \"prefiltered\" (the manifest gives it)");
     field.prefiltered = resolve(folder, h["prefiltered"].get<std::string>());
+    if (h.contains("scaling")) {
+      if (!h["scaling"].is_boolean()) fail(source, where + ".scaling", "expected true or false");
+      field.scaling = h["scaling"].get<bool>();
+    }
   } else {
+    if (h.contains("scaling")) fail(source, where + ".scaling", "only with \"prefiltered\"");
     if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\" or \"prefiltered\"");
     field.file = resolve(folder, h["file"].get<std::string>());
   }
@@ -391,7 +396,8 @@ HeightField readHeightField(const HeightFieldDescription& field, const ImageRead
 // SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
 void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
   if (!read) throw std::runtime_error(field.prefiltered + ": no reader for prefiltered displacement maps");
-  const PrefilteredSurfaceFile file = read(field.prefiltered);
+  PrefilteredSurfaceFile file = read(field.prefiltered);
+  if (!field.scaling) file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};  // f'_low alone
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
   const std::vector<Triangle> triangles = heightFieldTriangles(file.surface.height, placement);

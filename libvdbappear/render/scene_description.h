@@ -51,12 +51,14 @@ struct GroundDescription {
 // "height_fields": [{"file": "bumps.exr", "size": S, "origin": [x,y,z], "height_scale": K,
 // "tiles": [nx, ny], "albedo" | "brdf"}]: a displacement map (first channel; docs/displacement.md)
 // as a surface facing +z, one tile S wide along x, tessellated at its full resolution.
-// Or {"prefiltered": "relief_8x.json", "origin", "tiles"}: a map prefiltered by
+// Or {"prefiltered": "relief_8x.json", "origin", "tiles", "scaling": true}: a map prefiltered by
 // vdb_displacement_prefilter (docs/displacement.md §6, §8), h_low shaded by its SVBRDF; its size,
-// height scale and base BRDF come from the manifest.
+// height scale and base BRDF come from the manifest. "scaling": false leaves out T S (f'_low alone,
+// the multi-lobe model of Fig. 4.16 that the scaling function corrects).
 struct HeightFieldDescription {
   std::string file;
   std::string prefiltered;  // the manifest, instead of file
+  bool scaling = true;      // prefiltered: f_low = T S f'_low, or f'_low alone
   double size = 1;
   HeightFieldPlacement placement;
   Rgb albedo = Rgb::Constant(0.5);
