@@ -27,7 +27,7 @@ every map tiles seamlessly.)";
 
 constexpr const char* kDescriptions[] = {
     "a 4-harness twill from its yarns: 16 warp and 16 weft yarns rising over and dipping under each other",
-    "a noise floor: 48 periodic sinusoids of 4 to 64 cycles per map, RMS slope 0.6 (--seed)",
+    "a noise floor: 48 periodic sinusoids of 4 to 64 cycles per map, amplitudes as 1/f, RMS slope 0.6 (--seed)",
     "a relief: 8 x 8 raised squares with chamfered edges and engraved rings"};
 
 }  // namespace

@@ -29,9 +29,9 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
 // its F x F fine cells, and the prefiltered model's on the coarse cell, each times its patch's
-// visible projected area. f'_low does not depend on
-// the point (its lobes are in the base frame), so f_eff(G_low, f'_low) = f'_low(wi, wo) times the
-// effective BRDF of G_low with f = 1, which is what is estimated.
+// visible projected area. f'_low does not depend on the point (its lobes are in the base frame), so
+// f_eff(G_low, f'_low) = f'_low(wi, wo) times the effective BRDF of G_low with f = 1, which is what
+// is estimated.
 class ScalingEstimator {
  public:
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,

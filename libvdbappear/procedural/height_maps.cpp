@@ -67,8 +67,8 @@ HeightField noiseHeightMap(int cells, std::uint64_t seed) {
     const double a = std::round(f * std::cos(angle)), b = std::round(f * std::sin(angle));  // whole cycles: tiles
     const double frequency = std::hypot(a, b);
     if (frequency == 0) continue;
-    waves.push_back({a, b, 2 * kPi * hashUniform(seed, {k, 2}), 1 / (frequency * frequency)});
-    slope_square += 0.5 * std::pow(2 * kPi * frequency / (frequency * frequency), 2);  // mean of |grad|^2
+    waves.push_back({a, b, 2 * kPi * hashUniform(seed, {k, 2}), 1 / frequency});
+    slope_square += 0.5 * std::pow(2 * kPi, 2);  // the mean of |grad|^2 of (1 / f) sin(2 pi f x)
   }
   const double scale = 0.6 / std::sqrt(slope_square);
   return sampled(cells, [&](double x, double y) {

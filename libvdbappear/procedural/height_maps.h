@@ -21,7 +21,8 @@ class WeavePattern;
 HeightField wovenHeightMap(int cells, const WeavePattern& pattern, int yarns);
 
 // A noise floor: a sum of 48 periodic sinusoids, 4 to 64 cycles per map with random directions and
-// phases, amplitudes falling as 1/f^2, scaled to an RMS slope of 0.6.
+// phases, amplitudes falling as 1/f (every wave as steep as the others, so that the fine ones shadow
+// as much as the coarse), scaled to an RMS slope of 0.6.
 HeightField noiseHeightMap(int cells, std::uint64_t seed);
 
 // A relief: 8 x 8 raised squares with chamfered edges, each with an engraved ring.

@@ -8,6 +8,10 @@ namespace vdbappear {
 
 namespace {
 constexpr int kMaxLobes = 16;
+// Eq. (4.5)'s 1 / cos theta_i, limited at 84 degrees: the prefiltered model is shaded with the
+// coarse surface's cosine, which does not vanish where the base's does, and unlimited the ratio
+// lit pixels a thousand times their mean under a sky.
+constexpr double kMinCosTheta = 0.1;
 }
 
 double MultiLobeBrdf::widenedRoughness(double alpha, double kappa) {
@@ -33,7 +37,7 @@ Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
     if (cos_i <= 0) continue;
     sum += l.brdf.eval(l.frame.toLocal(wo), l.frame.toLocal(wi)) * (l.amplitude * cos_i);
   }
-  return sum / wi.z();
+  return sum / std::max(wi.z(), kMinCosTheta);
 }
 
 bool MultiLobeBrdf::lobeProbabilities(const Vec3& wo, double* probability) const {
