@@ -25,8 +25,8 @@ constexpr const char* kTool = "vdb_displacement_prefilter";
 
 constexpr const char* kExamples = R"(Examples:
   vdb_displacement_prefilter relief.exr relief_8x.json --factor 8
-  vdb_displacement_prefilter twill.exr twill_16x.json -f 16 --size 0.1 --height-scale 0.01 \
-      --brdf '{"distribution": "ggx", "roughness": 0.2, "specular": 0.04, "diffuse": [0.6, 0.1, 0.1]}'
+  vdb_displacement_prefilter twill.exr twill_16x.json -f 16 --brdf '{"roughness": 0.2, "diffuse": [0.6, 0.1, 0.1]}'
+  vdb_displacement_prefilter bumps.exr bumps_8x.json --size 0.1 --height-scale 0.01 --scaling shadowing
   vdb_displacement_prefilter noise.exr quick.json -f 8 --paths 256 --angular-resolution 9 --pairs 500 -v
 
 IN is a height map (docs/displacement.md §1): (n + 1)^2 pixels, the heights in its first channel.

@@ -2,6 +2,7 @@
 // Warps from [0,1)^2 to directions (and normal numbers), and the multiple-importance-sampling heuristic
 // (pbrt-v4, Ch. 2 and A.5). Each warp sits next to its pdf.
 
+#include "libvdbappear/math/concentric_mapping.h"
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/math/vector.h"
 
@@ -20,19 +21,8 @@ inline constexpr double uniformSpherePdf() { return 1 / (4 * kPi); }
 
 // Cosine-weighted hemisphere around +z (Malley's method on the concentric disk).
 inline Vec3 sampleCosineHemisphere(const Point2& u) {
-  const double a = 2 * u.x() - 1, b = 2 * u.y() - 1;
-  double r = 0, phi = 0;
-  if (a != 0 || b != 0) {
-    if (std::abs(a) > std::abs(b)) {
-      r = a;
-      phi = kPi / 4 * (b / a);
-    } else {
-      r = b;
-      phi = kPi / 2 - kPi / 4 * (a / b);
-    }
-  }
-  const double x = r * std::cos(phi), y = r * std::sin(phi);
-  return {x, y, std::sqrt(std::max(0.0, 1 - x * x - y * y))};
+  const Point2 d = squareToConcentricDisk(u);
+  return {d.x(), d.y(), std::sqrt(std::max(0.0, 1 - d.x() * d.x() - d.y() * d.y()))};
 }
 inline double cosineHemispherePdf(double cos_theta) { return std::max(0.0, cos_theta) / kPi; }
 

@@ -1,6 +1,5 @@
 #include "libvdbappear/prefilter/displacement_prefilter.h"
 
-#include "libvdbappear/math/frame.h"
 #include "libvdbappear/prefilter/effective_brdf.h"
 #include "libvdbappear/prefilter/multi_bounce_effective_brdf.h"
 #include "libvdbappear/surface/height_downsample.h"
@@ -10,6 +9,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -29,9 +29,12 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
 // its F x F fine cells, and the prefiltered model's on the coarse cell, each times its patch's
-// visible projected area. f'_low does not depend on the point (its lobes are in the base frame), so
-// f_eff(G_low, f'_low) = f'_low(wi, wo) times the effective BRDF of G_low with f = 1, which is what
-// is estimated.
+// visible projected area. For R, f'_low does not depend on the point (its lobes are in the base
+// frame), so f_eff(G_low, f'_low) = f'_low(wi, wo) times the effective BRDF of G_low with f = 1,
+// which is what is estimated. For R_ir the prefiltered model's is multi-bounce too, with paths over
+// the whole coarse map: the renderer traces the interreflections between coarse cells itself, and
+// Eq. (4.20)'s single-bounce denominator (the assumption of Eq. 4.19) counted them twice, a white
+// furnace of white bumps came out 1.14 (docs/displacement.md §6).
 class ScalingEstimator {
  public:
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
@@ -43,36 +46,53 @@ class ScalingEstimator {
   ScalingSample operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
     const int F = s_.factor;
     const std::uint64_t seed = s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40);
-    EffectiveBrdf original;
     if (s_.scaling == ScalingKind::Interreflection) {
       MultiBounceSettings m;
       m.samples_per_side = s_.samples_per_side;
       m.max_vertices = s_.max_vertices;
       m.seed = seed;
-      original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m);
-    } else {
-      original = effectiveBrdf(original_, u * F, v * F, F, microBrdf(), wi, wo, single(seed));
+      const EffectiveBrdf original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m);
+      const EffectiveBrdf low = multiBounceEffectiveBrdf(prefiltered_, u, v, 1, lowScattering(), wi, wo, m);
+      return {original.value * original.visible_area, low.value * low.visible_area};
     }
+    const EffectiveBrdf original =
+        effectiveBrdf(original_, u * F, v * F, F, microfacetPatchBrdf(base_), wi, wo, single(seed));
     const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
     const EffectiveBrdf geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed));
-    const MultiLobeBrdf& f_low = f_low_[std::size_t(u) + std::size_t(prefiltered_.field().cellsX()) * v];
     // Each weighted by its visible projected area toward wo (Eq. 4.8): the light the patch sends
     // toward the viewer, which is what a bin's sums compare (scaling_factorization.h).
-    return {original.value * original.visible_area, f_low.eval(wi, wo) * geometry.value * geometry.visible_area};
+    return {original.value * original.visible_area,
+            cellBrdf(u, v).eval(wi, wo) * geometry.value * geometry.visible_area};
   }
 
  private:
+  const MultiLobeBrdf& cellBrdf(int u, int v) const {
+    return f_low_[std::size_t(u) + std::size_t(prefiltered_.field().cellsX()) * std::size_t(v)];
+  }
+  // f'_low on G_low for paths: the lobes of the coarse cell under each point, in the base frame,
+  // with the coarse surface's cosine (as vdb_render shades it, prefilter/prefiltered_brdf.h).
+  PatchScattering lowScattering() const {
+    const auto cell = [this](const MicroGeometry::Point& x) -> const MultiLobeBrdf& {
+      const HeightField& h = prefiltered_.field();
+      const int u = std::clamp(int(x.x.x() / h.cellSize()), 0, h.cellsX() - 1);
+      const int v = std::clamp(int(x.x.y() / h.cellSize()), 0, h.cellsY() - 1);
+      return cellBrdf(u, v);
+    };
+    PatchScattering s;
+    s.eval = [cell](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) { return cell(x).eval(wi, wo); };
+    s.sample = [cell](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
+      BrdfSample sample = cell(x).sample(wo, u_lobe, u);
+      const double cos_n = x.normal.dot(sample.wi);
+      if (sample.pdf > 0) sample.weight = cos_n > 0 ? Rgb(cell(x).eval(sample.wi, wo) * (cos_n / sample.pdf)) : Rgb(Rgb::Zero());
+      return sample;
+    };
+    return s;
+  }
   EffectiveBrdfSettings single(std::uint64_t seed) const {
     EffectiveBrdfSettings e;
     e.samples_per_side = s_.samples_per_side;
     e.seed = seed;
     return e;
-  }
-  PatchBrdf microBrdf() const {
-    return [this](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
-      const Frame frame = Frame::fromNormal(normal);
-      return base_.eval(frame.toLocal(wo), frame.toLocal(wi));
-    };
   }
 
   MicroGeometry original_, prefiltered_;

@@ -1,5 +1,6 @@
 #include "libvdbappear/prefilter/effective_brdf.h"
 
+#include "libvdbappear/math/frame.h"
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/render/surface_scene.h"
 #include "libvdbappear/surface/height_field_mesh.h"
@@ -48,8 +49,15 @@ std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const V
   return Point{origin + hit->t * w, hit->normal};
 }
 
-EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
-                            const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings) {
+PatchBrdf microfacetPatchBrdf(const MicrofacetBrdf& base) {
+  return [base](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
+    const Frame frame = Frame::fromNormal(normal);
+    return base.eval(frame.toLocal(wo), frame.toLocal(wi));
+  };
+}
+
+EffectiveBrdf visibleAreaAverage(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                                 const EffectiveBrdfSettings& settings, const PointReflectance& r) {
   const HeightField& field = geometry.field();
   if (count < 1 || i0 < 0 || j0 < 0 || i0 + count > field.cellsX() || j0 + count > field.cellsY() ||
       settings.samples_per_side < 1)
@@ -68,14 +76,21 @@ EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int c
       if (cos_o <= 0 || (settings.visibility && !geometry.unoccluded(p, wo))) continue;
       const double A = cos_o / p.normal.z();
       area += A;
-      const double cos_i = p.normal.dot(wi);
-      if (cos_i <= 0 || (settings.visibility && !geometry.unoccluded(p, wi))) continue;
-      numerator += f(p.x, p.normal, wi, wo) * (cos_i * A);
+      numerator += r(p, a, b) * A;
     }
   EffectiveBrdf result;
   result.visible_area = area / (double(n) * n);
   if (area > 0) result.value = numerator / area;
   return result;
+}
+
+EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
+                            const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings) {
+  return visibleAreaAverage(geometry, i0, j0, count, wo, settings, [&](const MicroGeometry::Point& p, int, int) -> Rgb {
+    const double cos_i = p.normal.dot(wi);  // f <w_m, wi> V(wi) of Eq. (4.6)
+    if (cos_i <= 0 || (settings.visibility && !geometry.unoccluded(p, wi))) return Rgb::Zero();
+    return f(p.x, p.normal, wi, wo) * cos_i;
+  });
 }
 
 }  // namespace vdbappear

@@ -6,6 +6,7 @@
 // the ratio of the original's to the prefiltered model's.
 
 #include "libvdbappear/math/rgb.h"
+#include "libvdbappear/surface/microfacet_brdf.h"
 #include "libvdbappear/surface/height_field.h"
 
 #include <cstdint>
@@ -47,6 +48,9 @@ class MicroGeometry {
 // f(point, normal, wi, wo), the BRDF at a micro-surface point; directions in the base frame.
 using PatchBrdf = std::function<Rgb(const Vec3& x, const Vec3& normal, const Vec3& wi, const Vec3& wo)>;
 
+// The same microfacet BRDF everywhere, in the frame of each micro-normal (f_orig of §4.3).
+PatchBrdf microfacetPatchBrdf(const MicrofacetBrdf& base);
+
 struct EffectiveBrdfSettings {
   int samples_per_side = 50;  // stratified base positions: 2500, the chapter's paths per estimate (§4.7.1)
   std::uint64_t seed = 1;     // the jitter's stream, keyed by the patch
@@ -62,5 +66,13 @@ struct EffectiveBrdf {
 // integral of f <w_m, wi> V(wi) A_G(p, wo) to that of A_G(p, wo) over base positions p.
 EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
                             const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings);
+
+// The frame of Eq. (4.6) and (4.17) for any reflectance r(x, wi, wo) of the points seen along wo:
+// the ratio of the integrals of r A_G(p, wo) and of A_G(p, wo) over samples_per_side^2 jittered
+// base positions p, drawn from a stream keyed by the patch. `r(point, a, b)` is called for the
+// visible points, (a, b) the position's stratum.
+using PointReflectance = std::function<Rgb(const MicroGeometry::Point& x, int a, int b)>;
+EffectiveBrdf visibleAreaAverage(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                                 const EffectiveBrdfSettings& settings, const PointReflectance& r);
 
 }  // namespace vdbappear

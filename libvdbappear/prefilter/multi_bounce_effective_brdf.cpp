@@ -10,25 +10,22 @@ namespace {
 
 // r(x1, wi, wo) of Eq. (4.16) by one path from x1 seen along wo: at each vertex x_j the light's
 // term V(x_j, wi) f(x_j, wi, w_j->j-1) <n, wi>, times the throughput of the vertices before it.
-Rgb pathReflectance(const MicroGeometry& geometry, MicroGeometry::Point x, const MicrofacetBrdf& f, const Vec3& wi,
+Rgb pathReflectance(const MicroGeometry& geometry, MicroGeometry::Point x, const PatchScattering& f, const Vec3& wi,
                     const Vec3& wo, int max_vertices, RandomStream& rng) {
   Rgb r = Rgb::Zero(), throughput = Rgb::Ones();
   Vec3 toward_previous = wo;  // w_1->0 := wo
   for (int k = 1; k <= max_vertices; ++k) {
-    const Frame frame = Frame::fromNormal(x.normal);
-    const Vec3 wo_local = frame.toLocal(toward_previous);
-    if (wo_local.z() <= 0) break;  // reached from below its plane: a grazing leak
+    if (x.normal.dot(toward_previous) <= 0) break;  // reached from below its plane: a grazing leak
     const double cos_i = x.normal.dot(wi);
-    if (cos_i > 0 && geometry.unoccluded(x, wi)) r += throughput * f.eval(wo_local, frame.toLocal(wi)) * cos_i;
+    if (cos_i > 0 && geometry.unoccluded(x, wi)) r += throughput * f.eval(x, wi, toward_previous) * cos_i;
     if (k == max_vertices) break;
     const double u_lobe = rng.uniform();
-    const BrdfSample s = f.sample(wo_local, u_lobe, rng.uniform2());
+    const BrdfSample s = f.sample(x, toward_previous, u_lobe, rng.uniform2());
     if (s.pdf <= 0 || (s.weight <= 0).all()) break;
-    const Vec3 w_next = frame.toWorld(s.wi);
-    const std::optional<MicroGeometry::Point> next = geometry.trace(x, w_next);
+    const std::optional<MicroGeometry::Point> next = geometry.trace(x, s.wi);
     if (!next) break;  // the path leaves the micro-geometry: only the light's direction counts
     throughput *= s.weight;
-    toward_previous = -w_next;
+    toward_previous = -s.wi;
     x = *next;
   }
   return r;
@@ -36,36 +33,34 @@ Rgb pathReflectance(const MicroGeometry& geometry, MicroGeometry::Point x, const
 
 }  // namespace
 
+PatchScattering microfacetScattering(const MicrofacetBrdf& f) {
+  PatchScattering s;
+  s.eval = [f](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) {
+    const Frame frame = Frame::fromNormal(x.normal);
+    return f.eval(frame.toLocal(wo), frame.toLocal(wi));
+  };
+  s.sample = [f](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
+    const Frame frame = Frame::fromNormal(x.normal);
+    BrdfSample sample = f.sample(frame.toLocal(wo), u_lobe, u);  // weight f cos / pdf in the normal's frame
+    sample.wi = frame.toWorld(sample.wi);
+    return sample;
+  };
+  return s;
+}
+
 EffectiveBrdf multiBounceEffectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count,
-                                       const MicrofacetBrdf& f, const Vec3& wi, const Vec3& wo,
+                                       const PatchScattering& f, const Vec3& wi, const Vec3& wo,
                                        const MultiBounceSettings& settings) {
-  const HeightField& field = geometry.field();
-  if (count < 1 || i0 < 0 || j0 < 0 || i0 + count > field.cellsX() || j0 + count > field.cellsY() ||
-      settings.samples_per_side < 1 || settings.max_vertices < 1)
-    throw std::invalid_argument("multiBounceEffectiveBrdf: the patch leaves the height field, or no samples");
-  // The base positions draw from effectiveBrdf()'s stream in its order, so that one vertex gives
-  // its estimate; each path draws from its own stream.
-  RandomStream positions(settings.seed, {i0, j0, count});
-  const int n = settings.samples_per_side;
-  Rgb numerator = Rgb::Zero();
-  double area = 0;
-  for (int b = 0; b < n; ++b)
-    for (int a = 0; a < n; ++a) {
-      const Point2 jitter = positions.uniform2();
-      const MicroGeometry::Point p =
-          geometry.at(i0 + count * (a + jitter.x()) / n, j0 + count * (b + jitter.y()) / n);
-      // A_G(p, wo) of Eq. (4.7), as in effectiveBrdf().
-      const double cos_o = p.normal.dot(wo);
-      if (cos_o <= 0 || !geometry.unoccluded(p, wo)) continue;
-      const double A = cos_o / p.normal.z();
-      area += A;
-      RandomStream path(settings.seed, {i0, j0, count, a, b, 1});
-      numerator += pathReflectance(geometry, p, f, wi, wo, settings.max_vertices, path) * A;
-    }
-  EffectiveBrdf result;
-  result.visible_area = area / (double(n) * n);
-  if (area > 0) result.value = numerator / area;
-  return result;
+  if (settings.max_vertices < 1) throw std::invalid_argument("multiBounceEffectiveBrdf: no vertices");
+  // The base positions of effectiveBrdf(), so that one vertex gives its estimate; each path draws
+  // from its own stream.
+  EffectiveBrdfSettings positions;
+  positions.samples_per_side = settings.samples_per_side;
+  positions.seed = settings.seed;
+  return visibleAreaAverage(geometry, i0, j0, count, wo, positions, [&](const MicroGeometry::Point& p, int a, int b) {
+    RandomStream path(settings.seed, {i0, j0, count, a, b, 1});
+    return pathReflectance(geometry, p, f, wi, wo, settings.max_vertices, path);
+  });
 }
 
 }  // namespace vdbappear

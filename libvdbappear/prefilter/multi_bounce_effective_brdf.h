@@ -9,7 +9,20 @@
 #include "libvdbappear/prefilter/effective_brdf.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 
+#include <functional>
+
 namespace vdbappear {
+
+// How light scatters at the points of a micro-geometry, directions in the base frame, wi toward the
+// light and wo toward the viewer: f (without the cosine) and a sampled wi with the weight
+// f <n, wi> / pdf, n the point's normal. What a path of Eq. (4.15) needs.
+struct PatchScattering {
+  std::function<Rgb(const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo)> eval;
+  std::function<BrdfSample(const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u)> sample;
+};
+
+// The same microfacet BRDF everywhere, in the frame of each micro-normal (f_orig).
+PatchScattering microfacetScattering(const MicrofacetBrdf& f);
 
 struct MultiBounceSettings {
   int samples_per_side = 50;  // stratified base positions, one path each: 2500 paths (§4.7.1)
@@ -17,12 +30,16 @@ struct MultiBounceSettings {
   std::uint64_t seed = 1;
 };
 
-// Over the count x count cells from cell (i0, j0), with the micro-BRDF f in every micro-normal's
-// frame: paths start at base positions p (jittered, as effectiveBrdf()), continue by sampling f
-// (its sample() and weight f cos / pdf) and meet the light wi by a visibility test at every
+// Over the count x count cells from cell (i0, j0): paths start at base positions p (jittered, as
+// effectiveBrdf()), continue by sampling f and meet the light wi by a visibility test at every
 // vertex, the next-event form of Eq. (4.16) for a directional light.
 EffectiveBrdf multiBounceEffectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count,
-                                       const MicrofacetBrdf& f, const Vec3& wi, const Vec3& wo,
+                                       const PatchScattering& f, const Vec3& wi, const Vec3& wo,
                                        const MultiBounceSettings& settings);
+inline EffectiveBrdf multiBounceEffectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count,
+                                              const MicrofacetBrdf& f, const Vec3& wi, const Vec3& wo,
+                                              const MultiBounceSettings& settings) {
+  return multiBounceEffectiveBrdf(geometry, i0, j0, count, microfacetScattering(f), wi, wo, settings);
+}
 
 }  // namespace vdbappear

@@ -13,6 +13,10 @@ Vec3 sphericalDirection(const Frame& frame, double cos_theta, double phi) {
   return frame.toWorld(Vec3(sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta));
 }
 
+Vec3 directionFromDegrees(double theta_degrees, double phi_degrees) {
+  return sphericalDirection(Frame::fromNormal(Vec3(0, 0, 1)), std::cos(theta_degrees * kPi / 180), phi_degrees * kPi / 180);
+}
+
 double integrateCell(const SphereFunction& f, const SphereGrid& grid, double c0, double c1, double p0, double p1) {
   using Rule = boost::math::quadrature::gauss_kronrod<double, 15>;
   auto over_phi = [&](double cos_theta) {

@@ -21,6 +21,8 @@ struct SphereGrid {
 };
 
 Vec3 sphericalDirection(const Frame& frame, double cos_theta, double phi);
+// The direction at polar angle theta and azimuth phi (degrees) about +z.
+Vec3 directionFromDegrees(double theta_degrees, double phi_degrees);
 
 // Integral of f over the cell [c0,c1] x [p0,p1] of (cos theta, phi), to the grid's precision.
 double integrateCell(const SphereFunction& f, const SphereGrid& grid, double c0, double c1, double p0, double p1);

@@ -9,6 +9,7 @@
 #include "libvdbappear/surface/patch_ndf.h"
 
 #include "support/height_fields.h"
+#include "support/sphere_quadrature.h"
 
 #include <gtest/gtest.h>
 
@@ -17,17 +18,7 @@
 namespace vdbappear {
 namespace {
 
-Vec3 direction(double theta_degrees, double phi_degrees) {
-  const double t = theta_degrees * kPi / 180, p = phi_degrees * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-PatchBrdf microBrdf(const MicrofacetBrdf& base) {
-  return [base](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
-    const Frame frame = Frame::fromNormal(normal);
-    return base.eval(frame.toLocal(wo), frame.toLocal(wi));
-  };
-}
+using test::directionFromDegrees;
 
 // R of Eq. (4.12) on a flat map: the original's f_eff is f cos theta_i; h_low is flat, the patch NDF
 // one narrow lobe along z, f'_low (Eq. 4.5) the base BRDF, so R = 1.
@@ -39,9 +30,9 @@ TEST(EffectiveBrdf, FlatSurfaceHasScalingOne) {
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.3), Rgb(0.9, 0.6, 0.3), Rgb(0.1, 0.2, 0.3));
   const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, 8, 8, 8, 2), {}), base);
   const MicroGeometry original(fine), prefiltered(low);
-  for (const auto& [wi, wo] : {std::pair{direction(30, 0), direction(40, 180)}, std::pair{direction(60, 45), direction(10, 90)},
-                               std::pair{direction(75, 0), direction(75, 170)}}) {
-    const Rgb f_orig = effectiveBrdf(original, 8, 8, 8, microBrdf(base), wi, wo, {}).value;
+  for (const auto& [wi, wo] : {std::pair{directionFromDegrees(30, 0), directionFromDegrees(40, 180)}, std::pair{directionFromDegrees(60, 45), directionFromDegrees(10, 90)},
+                               std::pair{directionFromDegrees(75, 0), directionFromDegrees(75, 170)}}) {
+    const Rgb f_orig = effectiveBrdf(original, 8, 8, 8, microfacetPatchBrdf(base), wi, wo, {}).value;
     EXPECT_LT((f_orig - base.eval(wo, wi) * wi.z()).abs().maxCoeff(), 1e-12);
     const Rgb f_pref = effectiveBrdf(prefiltered, 1, 1, 1, [&](const Vec3&, const Vec3&, const Vec3& i, const Vec3& o) {
                          return f_low.eval(i, o);
@@ -68,12 +59,12 @@ TEST(EffectiveBrdf, VisibleProjectedAreaIsTheMesoSurfaces) {
   EffectiveBrdfSettings settings;
   settings.samples_per_side = 100;
   for (double theta : {0.0, 45.0, 70.0}) {
-    const Vec3 wo = direction(theta, 30);
+    const Vec3 wo = directionFromDegrees(theta, 30);
     const double expected = wo.dot(meso_normal) / meso_normal.z();
-    const double area = effectiveBrdf(geometry, 16, 16, 64, microBrdf(base), wo, wo, settings).visible_area;
+    const double area = effectiveBrdf(geometry, 16, 16, 64, microfacetPatchBrdf(base), wo, wo, settings).visible_area;
     EXPECT_NEAR(area, expected, 0.02 * expected) << "theta_o " << theta;
     settings.visibility = false;
-    const double unmasked = effectiveBrdf(geometry, 16, 16, 64, microBrdf(base), wo, wo, settings).visible_area;
+    const double unmasked = effectiveBrdf(geometry, 16, 16, 64, microfacetPatchBrdf(base), wo, wo, settings).visible_area;
     settings.visibility = true;
     // Measured: 1, 0.7051 and 0.3396 against 1, 0.7047 and 0.3388; unmasked 0.7293 and 0.4945.
     if (theta == 70.0) EXPECT_GT(unmasked, 1.2 * expected);
@@ -96,11 +87,11 @@ TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
       for (int u = 1; u <= 4; ++u) {
         const MultiLobeBrdf f_low(fitPatchNdf(patchMicroNormals(fine, u * 16, v * 16, 16, 2), {}), base);
         const PatchBrdf low_brdf = [&](const Vec3&, const Vec3&, const Vec3& i, const Vec3& o) { return f_low.eval(i, o); };
-        const Vec3 wi = direction(theta, 0), wo = direction(theta, 180);
-        const double o = effectiveBrdf(original, u * 16, v * 16, 16, microBrdf(base), wi, wo, {}).value[0];
+        const Vec3 wi = directionFromDegrees(theta, 0), wo = directionFromDegrees(theta, 180);
+        const double o = effectiveBrdf(original, u * 16, v * 16, 16, microfacetPatchBrdf(base), wi, wo, {}).value[0];
         const double p = effectiveBrdf(prefiltered, u, v, 1, low_brdf, wi, wo, {}).value[0];
         if (u == 1 && v == 1)
-          EXPECT_DOUBLE_EQ(scalingFactor(patches, u, v, microBrdf(base), low_brdf, wi, wo, {})[0], o / (p + 1e-6));
+          EXPECT_DOUBLE_EQ(scalingFactor(patches, u, v, microfacetPatchBrdf(base), low_brdf, wi, wo, {})[0], o / (p + 1e-6));
         orig += o;
         pref += p;
       }

@@ -7,6 +7,7 @@
 #include "libvdbappear/prefilter/multi_bounce_effective_brdf.h"
 
 #include "support/height_fields.h"
+#include "support/sphere_quadrature.h"
 
 #include <gtest/gtest.h>
 
@@ -15,17 +16,7 @@
 namespace vdbappear {
 namespace {
 
-Vec3 direction(double theta_degrees, double phi_degrees) {
-  const double t = theta_degrees * kPi / 180, p = phi_degrees * kPi / 180;
-  return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
-}
-
-PatchBrdf microBrdf(const MicrofacetBrdf& base) {
-  return [base](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
-    const Frame frame = Frame::fromNormal(normal);
-    return base.eval(frame.toLocal(wo), frame.toLocal(wi));
-  };
-}
+using test::directionFromDegrees;
 
 // Slopes near 1 (RMS about 0.9): sinusoids of periods 5 to 30 cells.
 HeightField bumpy(int cells) { return test::sinusoidHeightField(cells, 0.01, {30.0, 17.0, 9.0, 5.0}, 0.001, 3); }
@@ -38,9 +29,10 @@ TEST(MultiBounceEffectiveBrdf, OneVertexIsTheSingleBounceEstimate) {
   one.samples_per_side = 20;
   EffectiveBrdfSettings single;
   single.samples_per_side = 20;
-  for (const auto& [wi, wo] : {std::pair{direction(30, 0), direction(40, 180)}, std::pair{direction(60, 45), direction(10, 90)}}) {
+  for (const auto& [wi, wo] : {std::pair{directionFromDegrees(30, 0), directionFromDegrees(40, 180)},
+                               std::pair{directionFromDegrees(60, 45), directionFromDegrees(10, 90)}}) {
     const EffectiveBrdf multi = multiBounceEffectiveBrdf(geometry, 16, 16, 32, base, wi, wo, one);
-    const EffectiveBrdf reference = effectiveBrdf(geometry, 16, 16, 32, microBrdf(base), wi, wo, single);
+    const EffectiveBrdf reference = effectiveBrdf(geometry, 16, 16, 32, microfacetPatchBrdf(base), wi, wo, single);
     EXPECT_GT(reference.value.minCoeff(), 0);
     EXPECT_LT(((multi.value - reference.value) / reference.value).abs().maxCoeff(), 1e-12);
     EXPECT_DOUBLE_EQ(multi.visible_area, reference.visible_area);
@@ -56,7 +48,7 @@ TEST(MultiBounceEffectiveBrdf, FlatSurfaceHasNoInterreflection) {
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.5), Rgb::Constant(0.5), Rgb::Constant(0.5));
   MultiBounceSettings settings;
   settings.samples_per_side = 10;
-  const Vec3 wi = direction(50, 20), wo = direction(35, 250);
+  const Vec3 wi = directionFromDegrees(50, 20), wo = directionFromDegrees(35, 250);
   const Rgb value = multiBounceEffectiveBrdf(geometry, 4, 4, 8, base, wi, wo, settings).value;
   EXPECT_LT((value - base.eval(wo, wi) * wi.z()).abs().maxCoeff(), 1e-12);
 }
@@ -74,7 +66,7 @@ TEST(MultiBounceEffectiveBrdf, WhiteFurnaceReflectsEverything) {
   single.samples_per_side = 12;
   const int strata = 12;  // uniform directions over the hemisphere, stratified in (cos theta, phi)
   for (double theta_o : {0.0, 45.0, 70.0}) {
-    const Vec3 wo = direction(theta_o, 30);
+    const Vec3 wo = directionFromDegrees(theta_o, 30);
     double multi = 0, one = 0;
     for (int b = 0; b < strata; ++b)
       for (int a = 0; a < strata; ++a) {
@@ -82,7 +74,7 @@ TEST(MultiBounceEffectiveBrdf, WhiteFurnaceReflectsEverything) {
         const Vec3 wi(r * std::cos(phi), r * std::sin(phi), z);
         settings.seed = single.seed = 1 + a + strata * b;
         multi += multiBounceEffectiveBrdf(geometry, 16, 16, 64, white, wi, wo, settings).value[0];
-        one += effectiveBrdf(geometry, 16, 16, 64, microBrdf(white), wi, wo, single).value[0];
+        one += effectiveBrdf(geometry, 16, 16, 64, microfacetPatchBrdf(white), wi, wo, single).value[0];
       }
     multi *= 2 * kPi / (strata * strata);
     one *= 2 * kPi / (strata * strata);
