@@ -99,7 +99,8 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
     const int oa = int(bin % N), ob = int(bin / N % N), ia = int(bin / (N * N) % N), ib = int(bin / (std::size_t(N) * N * N));
     const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
     const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
-    result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, wo, bin, cells_x, cells_y, s);
+    result.S.values[result.S.index(ia, ib, oa, ob)] =
+        angularBin(R, wi, wo, bin, cells_x, cells_y, s).min(s.max_scaling);
     if (progress) progress->advance();
   });
   return result;

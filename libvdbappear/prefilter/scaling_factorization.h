@@ -45,6 +45,11 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   // with N = 9 against the original's 0.982; at 89 degrees 1.022).
   double max_theta_degrees = 89;
   double epsilon = 1e-6;  // footnote 2: added to both sums of a bin, so that 0 / 0 gives 1
+  // The most an S bin may scale: where the prefiltered model reflects almost nothing of what the
+  // original does (a coarse map that the light grazes, all in shadow, while the original's peaks
+  // catch it), the ratio is no scaling the model can carry. Uncapped, the woven map at 32x had
+  // bins of 3.5e6 and rendered 567 times too bright (docs/displacement.md §6).
+  double max_scaling = 20;
   std::uint64_t seed = 1;
 };
 

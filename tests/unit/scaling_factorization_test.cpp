@@ -126,6 +126,26 @@ TEST(ScalingFactorization, NonSeparableScalingIsNot) {
   EXPECT_GT(relativeRmsError(factorizeScaling(R, 16, 16, smallTables()), R), 0.15);
 }
 
+// Where the prefiltered model reflects nothing of the original's light (here: light beyond 60
+// degrees), S stops at max_scaling; where neither reflects, footnote 2's epsilon makes it 1.
+TEST(ScalingFactorization, BinsTheModelCannotCarryAreCapped) {
+  const ScalingSampler R = [](int, int, const Vec3& wi, const Vec3&) {
+    const bool grazing = wi.z() < 0.5;
+    return ScalingSample{Rgb(1, 0, 1), grazing ? Rgb(0, 0, 0) : Rgb(0.5, 0, 0.5)};
+  };
+  FactorizationSettings s = smallTables();
+  s.angular_resolution = 5;
+  s.pairs_per_spatial_bin = 100;
+  const FactorizedScaling factors = factorizeScaling(R, 4, 4, s);
+  for (int ib = 0; ib < 5; ++ib)
+    for (int ia = 0; ia < 5; ++ia) {
+      const Rgb value = factors.S.values[factors.S.index(ia, ib, 2, 2)];
+      const bool grazing = factors.S.binDirection(ia, ib).z() < 0.5;
+      EXPECT_NEAR(value[0], grazing ? 20 : 2, 1e-5) << ia << ", " << ib;
+      EXPECT_NEAR(value[1], 1, 1e-12);
+    }
+}
+
 TEST(ScalingFactorization, SameTablesOnOneThreadAndMany) {
   const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb(spatialFactor(u, v), angularFactor(wi, wo), spatialFactor(v, u) * angularFactor(wo, wi)),
