@@ -41,6 +41,7 @@ class ScalingEstimator {
                    const DisplacementPrefilterSettings& s)
       : original_(fine), prefiltered_(low.height), base_(base), s_(s) {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
+    low_scattering_ = lowScattering();
   }
 
   ScalingSample operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
@@ -52,7 +53,7 @@ class ScalingEstimator {
       m.max_vertices = s_.max_vertices;
       m.seed = seed;
       const EffectiveBrdf original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m);
-      const EffectiveBrdf low = multiBounceEffectiveBrdf(prefiltered_, u, v, 1, lowScattering(), wi, wo, m);
+      const EffectiveBrdf low = multiBounceEffectiveBrdf(prefiltered_, u, v, 1, low_scattering_, wi, wo, m);
       return {original.value * original.visible_area, low.value * low.visible_area};
     }
     const EffectiveBrdf original =
@@ -97,6 +98,7 @@ class ScalingEstimator {
 
   MicroGeometry original_, prefiltered_;
   std::vector<MultiLobeBrdf> f_low_;  // per coarse cell
+  PatchScattering low_scattering_;    // f'_low over G_low, built once (every R_ir sample uses it)
   const MicrofacetBrdf& base_;
   const DisplacementPrefilterSettings& s_;
 };
