@@ -26,7 +26,11 @@ PinholeCamera::PinholeCamera(const CameraPose& pose, int width, int height)
 Ray PinholeCamera::ray(double x, double y) const {
   const double sx = (2 * x / width_ - 1) * tan_half_fov_ * aspect_;
   const double sy = (1 - 2 * y / height_) * tan_half_fov_;
-  return {position_, (forward_ + sx * right_ + sy * up_).normalized()};
+  const Vec3 d = (forward_ + sx * right_ + sy * up_).normalized();
+  // A pixel is (2 tan(fov/2) / height)^2 of the image plane at distance 1; seen from the camera at
+  // angle alpha off axis it subtends that times cos^3 alpha.
+  const double cos_alpha = d.dot(forward_);
+  return {position_, d, 2 * tan_half_fov_ / height_ * std::pow(cos_alpha, 1.5)};
 }
 
 CameraPose framedView(const Aabb& box, const std::string& side, double fov_degrees, double aspect) {

@@ -4,6 +4,7 @@
 #include "libvdbappear/lightgrid/cell_interpolation.h"
 #include "libvdbappear/medium/lobe_weight_scales.h"
 #include "libvdbappear/medium/medium_view.h"
+#include "libvdbappear/render/level_of_detail.h"
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
@@ -39,6 +40,9 @@ struct RenderScene {
   std::unique_ptr<SurfaceScene> surfaces;        // may be null or empty
   std::vector<MicrofacetBrdf> brdfs;             // of the glossy surfaces; SurfaceHit::brdf indexes this
   std::vector<PrefilteredPlacement> prefiltered; // SurfaceHit::prefiltered indexes this
+  // Mipmaps of prefiltered maps (§4.7.2): each path's level of detail comes from its camera ray's
+  // footprint on them (render/level_of_detail.h); their levels are surfaces of those levels.
+  std::vector<MipmapFootprint> mipmaps;
   // Closed meshes whose light leaves by the dipole (subsurface/); SurfaceHit::translucent indexes this.
   std::vector<std::shared_ptr<TranslucentObject>> translucent;  // read-only while rendering
   double ray_epsilon = 1e-5;                     // offset of rays leaving surfaces (world units)

@@ -145,9 +145,27 @@ namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
-  checkKeys(h, {"file", "prefiltered", "scaling", "size", "origin", "height_scale", "tiles", "albedo", "brdf"}, source, where);
+  checkKeys(h, {"file", "prefiltered", "mipmap", "scaling", "size", "origin", "height_scale", "tiles", "albedo", "brdf"},
+            source, where);
   HeightFieldDescription field;
-  if (h.contains("prefiltered")) {
+  if (h.contains("mipmap")) {
+    const json& m = h["mipmap"];
+    if (!m.is_array() || m.empty()) fail(source, where + ".mipmap", "expected [\"LEVEL.json\", ...], finest first");
+    for (const json& level : m) {
+      if (!level.is_string()) fail(source, where + ".mipmap", "expected the paths of manifests");
+      field.mipmap.push_back(resolve(folder, level.get<std::string>()));
+    }
+    for (const char* key : {"prefiltered", "size", "height_scale", "albedo", "brdf"})
+      if (h.contains(key)) fail(source, where + "." + key, "not with \"mipmap\" (the manifests give it)");
+    if (h.contains("file")) {
+      if (!h["file"].is_string()) fail(source, where + ".file", "expected the path of the original map");
+      field.file = resolve(folder, h["file"].get<std::string>());
+    }
+    if (h.contains("scaling")) {
+      if (!h["scaling"].is_boolean()) fail(source, where + ".scaling", "expected true or false");
+      field.scaling = h["scaling"].get<bool>();
+    }
+  } else if (h.contains("prefiltered")) {
     if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
     for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
       if (h.contains(key)) fail(source, where + "." + key, "not with \"prefiltered\" (the manifest gives it)");
@@ -157,7 +175,7 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
       field.scaling = h["scaling"].get<bool>();
     }
   } else {
-    if (h.contains("scaling")) fail(source, where + ".scaling", "only with \"prefiltered\"");
+    if (h.contains("scaling")) fail(source, where + ".scaling", "only with \"prefiltered\" or \"mipmap\"");
     if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\" or \"prefiltered\"");
     field.file = resolve(folder, h["file"].get<std::string>());
   }
@@ -407,6 +425,68 @@ void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader
   scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1));
 }
 
+// The levels of a mipmap in one scene: level j of n sees paths of level j, its last also those of
+// every level above (render/surface_scene.h).
+DetailLevels mipmapLevel(std::size_t j, std::size_t n) {
+  return {int(j), j + 1 == n ? DetailLevels::kLastLevel : int(j)};
+}
+
+// A mipmap (§4.7.2): its prefiltered levels, and the original below them when "file" is given,
+// each a surface of its own level of detail; the manifests must describe one original.
+void addMipmap(const HeightFieldDescription& field, const ImageReader& read_image, const PrefilteredReader& read,
+               RenderScene* scene, Aabb* bounds) {
+  if (!read) throw std::runtime_error(field.mipmap.front() + ": no reader for prefiltered displacement maps");
+  std::vector<PrefilteredSurfaceFile> levels;
+  for (const std::string& manifest : field.mipmap) levels.push_back(read(manifest));
+  const PrefilteredSurfaceFile& first = levels.front();
+  const int fine_cells = first.surface.height.cellsX() * first.info.factor;
+  for (std::size_t j = 0; j < levels.size(); ++j) {
+    const PrefilteredSurfaceFile& level = levels[j];
+    const auto mismatch = [&](const std::string& what) {
+      throw std::runtime_error(field.mipmap[j] + ": " + what + " differs from " + field.mipmap.front() +
+                               "'s: the levels of a mipmap must prefilter one map");
+    };
+    if (j > 0 && !(level.info.factor > levels[j - 1].info.factor))
+      throw std::runtime_error(field.mipmap[j] + ": factor " + std::to_string(level.info.factor) +
+                               " after factor " + std::to_string(levels[j - 1].info.factor) + ": list the levels finest first");
+    if (level.surface.height.cellsX() * level.info.factor != fine_cells) mismatch("the original's cell count");
+    if (level.info.size != first.info.size) mismatch("size");
+    if (level.info.height_scale != first.info.height_scale) mismatch("height_scale");
+    if (brdfToJson(level.base) != brdfToJson(first.base)) mismatch("the base BRDF");
+  }
+  HeightFieldPlacement placement = field.placement;
+  MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
+                            first.info.size / fine_cells, {}};
+  const std::size_t n = levels.size() + (field.file.empty() ? 0 : 1);
+  std::size_t j = 0;
+  if (!field.file.empty()) {
+    HeightFieldDescription original = field;
+    original.size = first.info.size;
+    const HeightField height = readHeightField(original, read_image);
+    if (height.cellsX() != fine_cells)
+      throw std::runtime_error(field.file + ": " + std::to_string(height.cellsX()) + " cells across, the mipmap's levels prefilter " +
+                               std::to_string(fine_cells));
+    placement.height_scale = first.info.height_scale;
+    const std::vector<Triangle> triangles = heightFieldTriangles(height, placement);
+    for (const Triangle& t : triangles)
+      for (const Vec3& v : t) bounds->extend(v);
+    scene->brdfs.push_back(first.base);
+    scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n));
+    footprint.factors.push_back(1);
+  }
+  placement.height_scale = 1;
+  for (PrefilteredSurfaceFile& level : levels) {
+    if (!field.scaling) level.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};
+    const std::vector<Triangle> triangles = heightFieldTriangles(level.surface.height, placement);
+    for (const Triangle& t : triangles)
+      for (const Vec3& v : t) bounds->extend(v);
+    scene->prefiltered.push_back({std::make_shared<PrefilteredBrdf>(level.surface, level.base), placement.origin, level.info.size});
+    scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1), mipmapLevel(j++, n));
+    footprint.factors.push_back(level.info.factor);
+  }
+  scene->mipmaps.push_back(std::move(footprint));
+}
+
 // Pass 1 of a translucent object: irradiance samples at the centroids of its faces, split to the
 // sample spacing, lit by the scene built so far (docs/subsurface.md §2).
 std::shared_ptr<TranslucentObject> translucentObject(const std::string& file, const TranslucentMaterial& material,
@@ -465,6 +545,10 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
     translucent.emplace_back(&mesh, std::move(triangles));
   }
   for (const HeightFieldDescription& field : description.height_fields) {
+    if (!field.mipmap.empty()) {
+      addMipmap(field, read_image, read_prefiltered, &scene, &everything);
+      continue;
+    }
     if (!field.prefiltered.empty()) {
       addPrefiltered(field, read_prefiltered, &scene, &everything);
       continue;

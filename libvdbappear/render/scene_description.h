@@ -55,9 +55,15 @@ struct GroundDescription {
 // vdb_displacement_prefilter (docs/displacement.md §6, §8), h_low shaded by its SVBRDF; its size,
 // height scale and base BRDF come from the manifest. "scaling": false leaves out T S (f'_low alone,
 // the multi-lobe model of Fig. 4.16 that the scaling function corrects).
+// Or {"mipmap": ["relief_8x.json", "relief_32x.json"], "file": "relief.exr", "origin", "tiles",
+// "scaling"}: a mipmap of prefiltered maps of one original, factors increasing, with the original
+// (optional "file", its size, height scale and BRDF from the manifests) as its finest level; each
+// path is traced on the level its camera ray's pixel footprint picks (§4.7.2;
+// render/level_of_detail.h).
 struct HeightFieldDescription {
   std::string file;
   std::string prefiltered;  // the manifest, instead of file
+  std::vector<std::string> mipmap;  // manifests, instead of prefiltered; file: the original as level 0
   bool scaling = true;      // prefiltered: f_low = T S f'_low, or f'_low alone
   double size = 1;
   HeightFieldPlacement placement;

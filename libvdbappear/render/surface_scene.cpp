@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -29,13 +30,20 @@ void throwOnEmbreeError(RTCDevice device, const char* what) {
 
 }  // namespace
 
+// One Embree scene per level of detail; a geometry is attached, under the same id, to the scene of
+// every level it belongs to (Embree shares it, each scene builds its own BVH over it).
 struct SurfaceScene::Impl {
   RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  std::vector<GeometryInfo> geometries;  // indexed by Embree geometry id
+  std::vector<RTCScene> scenes;            // by level, made at commit
+  std::vector<RTCGeometry> pending;        // added, attached at commit
+  std::vector<DetailLevels> levels;        // of each geometry
+  std::vector<GeometryInfo> geometries;    // indexed by geometry id
   bool committed = false;
 
-  void add(const std::vector<Triangle>& triangles, GeometryInfo info) {
+  RTCScene sceneOf(int level) const { return scenes[std::size_t(std::clamp(level, 0, int(scenes.size()) - 1))]; }
+
+  void add(const std::vector<Triangle>& triangles, GeometryInfo info, DetailLevels detail = {}) {
+    if (!(detail.first >= 0 && detail.first <= detail.last)) throw std::invalid_argument("SurfaceScene: bad detail levels");
     if (triangles.empty()) return;
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -51,22 +59,37 @@ struct SurfaceScene::Impl {
       info.normals.push_back((triangles[i][1] - triangles[i][0]).cross(triangles[i][2] - triangles[i][0]).normalized());
     }
     rtcCommitGeometry(geometry);
-    const unsigned id = rtcAttachGeometry(scene, geometry);
-    rtcReleaseGeometry(geometry);
-    if (geometries.size() <= id) geometries.resize(id + 1);
-    geometries[id] = std::move(info);
+    pending.push_back(geometry);
+    levels.push_back(detail);
+    geometries.push_back(std::move(info));
+  }
+
+  void commit() {
+    int count = 1;
+    for (const DetailLevels& l : levels) count = std::max(count, l.first + 1);
+    for (int level = 0; level < count; ++level) {
+      RTCScene scene = rtcNewScene(device);
+      rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+      for (std::size_t id = 0; id < pending.size(); ++id)
+        if (levels[id].first <= level && level <= levels[id].last) rtcAttachGeometryByID(scene, pending[id], unsigned(id));
+      rtcCommitScene(scene);
+      scenes.push_back(scene);
+      throwOnEmbreeError(device, "building the scene");
+    }
+    for (RTCGeometry geometry : pending) rtcReleaseGeometry(geometry);  // the scenes hold them
+    pending.clear();
+    committed = true;
   }
 };
 
 SurfaceScene::SurfaceScene() : impl_(std::make_unique<Impl>()) {
   impl_->device = rtcNewDevice("verbose=0");
   if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
-  impl_->scene = rtcNewScene(impl_->device);
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
 }
 
 SurfaceScene::~SurfaceScene() {
-  rtcReleaseScene(impl_->scene);
+  for (RTCScene scene : impl_->scenes) rtcReleaseScene(scene);
+  for (RTCGeometry geometry : impl_->pending) rtcReleaseGeometry(geometry);
   rtcReleaseDevice(impl_->device);
 }
 
@@ -74,12 +97,12 @@ void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb&
   impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, -1, {}});
 }
 
-void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}});
+void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}}, levels);
 }
 
-void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}});
+void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}}, levels);
 }
 
 void SurfaceScene::addLight(const std::vector<Triangle>& triangles, int light_index) {
@@ -90,13 +113,11 @@ void SurfaceScene::addTranslucent(const std::vector<Triangle>& triangles, int ob
   impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, object_index, -1, -1, {}});
 }
 
-void SurfaceScene::commit() {
-  rtcCommitScene(impl_->scene);
-  throwOnEmbreeError(impl_->device, "building the scene");
-  impl_->committed = true;
-}
+void SurfaceScene::commit() { impl_->commit(); }
 
 bool SurfaceScene::empty() const { return impl_->geometries.empty(); }
+
+int SurfaceScene::levelCount() const { return std::max(1, int(impl_->scenes.size())); }
 
 namespace {
 
@@ -116,7 +137,8 @@ RTCRay makeRay(const Vec3& o, const Vec3& d, double t_min, double t_max) {
 
 }  // namespace
 
-std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, double t_min, double t_max) const {
+std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, double t_min, double t_max,
+                                                  int level) const {
   if (empty()) return std::nullopt;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
@@ -124,18 +146,18 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   hit.ray = makeRay(o, d, t_min, t_max);
   hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &context, &hit);
+  rtcIntersect1(impl_->sceneOf(level), &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
   const GeometryInfo& info = impl_->geometries[hit.hit.geomID];
   return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf, info.prefiltered};
 }
 
-bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const {
+bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max, int level) const {
   if (empty()) return false;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray = makeRay(o, d, t_min, t_max);
-  rtcOccluded1(impl_->scene, &context, &ray);
+  rtcOccluded1(impl_->sceneOf(level), &context, &ray);
   return ray.tfar < 0;
 }
 

@@ -23,6 +23,15 @@ struct SurfaceHit {
   int prefiltered = -1;  // index of a prefiltered displacement map (RenderScene::prefiltered), or -1
 };
 
+// Which levels of detail a surface belongs to (render/level_of_detail.h): a mipmap's level k is
+// seen only by paths of level k; every other surface by all paths. Levels {k, kLastLevel}: k and
+// every level above it (a mipmap's coarsest level, for paths of a scene whose other mipmaps have
+// more levels).
+struct DetailLevels {
+  static constexpr int kLastLevel = 1 << 20;
+  int first = 0, last = kLastLevel;
+};
+
 class SurfaceScene {
  public:
   SurfaceScene();
@@ -31,16 +40,18 @@ class SurfaceScene {
   SurfaceScene& operator=(const SurfaceScene&) = delete;
 
   void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
-  void addGlossy(const std::vector<Triangle>& triangles, int brdf_index);
-  void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index);
+  void addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels = {});
+  void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels = {});
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // after the last add, before any query
   bool empty() const;
+  int levelCount() const;  // 1 + the highest first level added (1 without mipmaps); after commit
 
-  // Closest hit with t in (t_min, t_max).
-  std::optional<SurfaceHit> intersect(const Vec3& o, const Vec3& d, double t_min, double t_max) const;
-  bool occluded(const Vec3& o, const Vec3& d, double t_min, double t_max) const;
+  // Closest hit with t in (t_min, t_max), among the surfaces of the given level of detail (levels
+  // above levelCount() - 1 see the last).
+  std::optional<SurfaceHit> intersect(const Vec3& o, const Vec3& d, double t_min, double t_max, int level = 0) const;
+  bool occluded(const Vec3& o, const Vec3& d, double t_min, double t_max, int level = 0) const;
 
  private:
   struct Impl;

@@ -52,6 +52,7 @@ struct VolumePathTracer::Vertex {
   // position map_x; the cosine is the coarse surface's (docs/displacement.md §8).
   const PrefilteredBrdf* prefiltered = nullptr;
   Point2 map_x;
+  int level = 0;  // the path's level of detail (render/level_of_detail.h)
 
   bool lambertian() const { return on_surface && !brdf && !prefiltered; }
   Rgb eval(const Vec3& wo) const {
@@ -90,10 +91,10 @@ struct VolumePathTracer::Vertex {
   Vec3 origin() const { return p; }
 };
 
-double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng,
+double VolumePathTracer::transmittance(const Vec3& p, const Vec3& w, double distance, int level, RandomStream& rng,
                                        MediumLookup* lookup) const {
   const double eps = scene_.ray_epsilon;
-  if (scene_.surfaces && scene_.surfaces->occluded(p, w, eps, distance * (1 - 1e-6) - eps)) return 0;
+  if (scene_.surfaces && scene_.surfaces->occluded(p, w, eps, distance * (1 - 1e-6) - eps, level)) return 0;
   return lookup ? lookup->transmittance(p, w, distance, rng) : 1.0;
 }
 
@@ -134,7 +135,7 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomS
     if (!(ls.pdf > 0) || (ls.Li == 0).all()) continue;
     const Rgb f = gradients ? vertex.eval(ls.wi, per_lobe.data()) : vertex.eval(ls.wi);
     if ((f == 0).all()) continue;
-    const double T = transmittance(vertex.origin(), ls.wi, ls.distance, rng, lookup);
+    const double T = transmittance(vertex.origin(), ls.wi, ls.distance, vertex.level, rng, lookup);
     if (!(T > 0)) continue;
     double weight = 1;
     if (!ls.is_delta && settings_.strategy != LightStrategy::kLightOnly) weight = powerHeuristic(ls.pdf, vertex.pdf(ls.wi));
@@ -195,11 +196,12 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
   double mirror_reflectance = 1;  // of the camera ray's mirror reflections so far; 0 once a path scatters otherwise
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
+  vertex.level = pathLevel(scene_.mipmaps, ray, rng);
   for (int depth = 0;; ++depth) {
     const bool camera_ray = depth == 0;
     const bool unweighted = camera_ray || prev_specular;
     std::optional<SurfaceHit> hit;
-    if (scene_.surfaces) hit = scene_.surfaces->intersect(ray.o, ray.d, camera_ray ? 0.0 : eps, kInfinity);
+    if (scene_.surfaces) hit = scene_.surfaces->intersect(ray.o, ray.d, camera_ray ? 0.0 : eps, kInfinity, vertex.level);
     const double t_surface = hit ? hit->t : kInfinity;
     std::optional<double> t_medium;
     if (lookup) t_medium = lookup->sampleCollision(ray.o, ray.d, t_surface, rng);

@@ -52,7 +52,8 @@ class VolumePathTracer {
   Rgb sampleDirect(const Vertex& vertex, bool from_grid, RandomStream& rng, MediumLookup* lookup, const Rgb& beta,
                    PathGradients* gradients) const;
   Rgb shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const;
-  double transmittance(const Vec3& p, const Vec3& w, double distance, RandomStream& rng, MediumLookup* lookup) const;
+  double transmittance(const Vec3& p, const Vec3& w, double distance, int level, RandomStream& rng,
+                       MediumLookup* lookup) const;
   // unweighted: a camera ray or one leaving a specular reflection, which light sampling never reaches.
   Rgb escapedRadiance(const Ray& ray, double prev_pdf, bool unweighted) const;
   bool survivesRoulette(int depth, RandomStream& rng, Rgb* beta, PathGradients* gradients) const;

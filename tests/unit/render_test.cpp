@@ -7,6 +7,8 @@
 #include "libvdbappear/medium/medium_view.h"
 #include "libvdbappear/prefilter/prefiltered_surface_file.h"
 #include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/render/camera.h"
+#include "libvdbappear/render/level_of_detail.h"
 #include "libvdbappear/render/render_image.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/similarity/legendre_moments.h"
@@ -462,17 +464,23 @@ TEST(Surfaces, FlatHeightFieldIsAPlaneOfItsAlbedo) {
 
 // A prefiltered displacement map as vdb_render places it (scene key "prefiltered"): `map` cells of
 // 0.1 prefiltered at factor 4 with small tables, read back through the scene's reader.
-RenderScene prefilteredScene(const HeightField& map, const MicrofacetBrdf& base, const json& lights,
-                             ScalingKind scaling = ScalingKind::Shadowing, int angular_resolution = 5) {
+PrefilteredSurfaceFile prefilteredFile(const HeightField& map, const MicrofacetBrdf& base,
+                                       ScalingKind scaling = ScalingKind::Shadowing, int angular_resolution = 5,
+                                       int factor = 4) {
   DisplacementPrefilterSettings s;
-  s.factor = 4;
+  s.factor = factor;
   s.scaling = scaling;
   s.samples_per_side = 8;
   s.factorization.spatial_resolution = 2;
   s.factorization.angular_resolution = angular_resolution;
   s.factorization.pairs_per_spatial_bin = 50;
   s.factorization.positions_per_angular_bin = angular_resolution > 5 ? 16 : 4;
-  const PrefilteredSurfaceFile file{prefilterDisplacement(map, base, s), base, {"map.exr", 4, map.cellSize() * map.cellsX(), 1, s.scaling}};
+  return {prefilterDisplacement(map, base, s), base, {"map.exr", factor, map.cellSize() * map.cellsX(), 1, s.scaling}};
+}
+
+RenderScene prefilteredScene(const HeightField& map, const MicrofacetBrdf& base, const json& lights,
+                             ScalingKind scaling = ScalingKind::Shadowing, int angular_resolution = 5) {
+  const PrefilteredSurfaceFile file = prefilteredFile(map, base, scaling, angular_resolution);
   SceneDescription d;
   d.lights = lights;
   HeightFieldDescription field;
@@ -541,6 +549,160 @@ TEST(Surfaces, PrefilteredWhiteFurnace) {
   std::printf("furnace: interreflection %.4f shadowing %.4f\n", interreflection, shadowing);
   EXPECT_NEAR(interreflection, 1, 0.04);
   EXPECT_LT(shadowing, interreflection - 0.05);
+}
+
+double sq(double x) { return x * x; }
+
+// The image of a height field as vdb_render reads it: pixel (i, j) holds h(i, j) in every channel.
+RgbImage heightImage(const HeightField& field) {
+  RgbImage image(field.verticesX(), field.cellsY() + 1);
+  for (int j = 0; j <= field.cellsY(); ++j)
+    for (int i = 0; i <= field.cellsX(); ++i)
+      for (int c = 0; c < 3; ++c) image.pixels[std::size_t(3 * (j * image.width + i) + c)] = float(field.at(i, j));
+  return image;
+}
+
+// A plane of slope 0.5 along x, 16 cells of 0.1.
+HeightField slope() {
+  HeightField field(16, 16, 0.1);
+  for (int j = 0; j <= 16; ++j)
+    for (int i = 0; i <= 16; ++i) field.at(i, j) = 0.05 * i;
+  return field;
+}
+
+// A mipmap (scene key "mipmap", §4.7.2) of a bumpy original (level 0, 16 cells of 0.1) and, as its
+// level 1, a sloping plane's model prefiltered at factor 4: the two levels look unlike each other,
+// so which one a path saw shows in the image. Also each level alone, as plain scenes.
+struct MipmapScenes {
+  HeightField bumpy = test::sinusoidHeightField(16, 0.1, {9.0, 5.0}, 0.02, 3);
+  MicrofacetBrdf base{MicrofacetDistribution(MicrofacetKind::GGX, 0.25), Rgb::Constant(0.6), Rgb::Constant(0.2)};
+  PrefilteredSurfaceFile coarse = prefilteredFile(slope(), base);
+  json lights = json::array({{{"type", "sun"}, {"direction", {1.0, 0.5, -0.6}}, {"strength", 2.0}},
+                             {{"type", "env"}, {"radiance", 0.3}}});
+
+  RenderScene build(const HeightFieldDescription& field) const {
+    SceneDescription d;
+    d.lights = lights;
+    d.height_fields.push_back(field);
+    d.height_fields.back().placement.origin = Vec3(-0.8, -0.8, 0);
+    return buildRenderScene(d, nullptr, [&](const std::string&) { return heightImage(bumpy); },
+                            [&](const std::string&) { return coarse; });
+  }
+  RenderScene mipmap() const {
+    HeightFieldDescription field;
+    field.file = "bumpy.exr";
+    field.mipmap = {"flat_4x.json"};
+    return build(field);
+  }
+  RenderScene original() const {
+    HeightFieldDescription field;
+    field.file = "bumpy.exr";
+    field.size = 1.6;
+    field.brdf = base;
+    return build(field);
+  }
+  RenderScene prefiltered() const {
+    HeightFieldDescription field;
+    field.prefiltered = "flat_4x.json";
+    return build(field);
+  }
+};
+
+// A camera straight down on the map's centre from `height`, fov 10 degrees, 8 x 8 pixels: a pixel is
+// height * 2 tan(5 deg) / 8 wide, 0.44 original cells from 2, 8.7 from 40.
+PinholeCamera cameraAbove(double height) { return PinholeCamera({Vec3(0, 0, height), Vec3::Zero(), Vec3(0, 1, 0), 10}, 8, 8); }
+
+// Pixels narrower than an original cell see the original alone, pixels wider than the coarsest
+// level's cells that level alone (the same paths: no number is drawn where nothing blends).
+TEST(Surfaces, MipmapLevelsFollowThePixelFootprint) {
+  const MipmapScenes scenes;
+  const RenderScene mipmap = scenes.mipmap();
+  for (const auto& [height, alone] : {std::pair{2.0, scenes.original()}, std::pair{40.0, scenes.prefiltered()}}) {
+    const RenderResult expected = renderImage(alone, cameraAbove(height), small(8, 16));
+    const RenderResult r = renderImage(mipmap, cameraAbove(height), small(8, 16));
+    for (std::size_t i = 0; i < r.mean.size(); ++i)
+      EXPECT_NEAR(r.mean[i], expected.mean[i], 1e-5 * expected.mean[i] + 1e-7) << "height " << height << " pixel " << i;
+  }
+}
+
+// Between two levels each pixel is their linear interpolation (§4.7.2) by its footprint's weight:
+// at 1.5 cells, w = log 1.5 / log 4 = 0.29 of the way from factor 1 to 4, the mipmap's image is
+// 0.71 of the original's and 0.29 of the coarse level's, which differ by many standard errors.
+TEST(Surfaces, MipmapBlendsTwoLevelsByTheFootprint) {
+  const MipmapScenes scenes;
+  const PinholeCamera camera = cameraAbove(0.15 * 8 / (2 * std::tan(5 * kPi / 180)));
+  const Render original = summarize(renderImage(scenes.original(), camera, small(8, 256, 2)));
+  const Render coarse = summarize(renderImage(scenes.prefiltered(), camera, small(8, 256, 3)));
+  const Render mipmap = summarize(renderImage(scenes.mipmap(), camera, small(8, 256, 4)));
+  const MipmapFootprint footprint = scenes.mipmap().mipmaps.at(0);
+  EXPECT_EQ(footprint.factors, (std::vector<double>{1, 4}));
+  double expected = 0, variance = 0;
+  const double n = double(original.result.mean.size());  // 3 channels per pixel
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const double w = blendForFootprint(footprint.factors, footprintOn(footprint, camera.ray(x + 0.5, y + 0.5))->cells).weight;
+      EXPECT_NEAR(w, std::log(1.5) / std::log(4.0), 0.02) << x << " " << y;
+      for (std::size_t i = std::size_t(3 * (y * 8 + x)), c = 0; c < 3; ++c) {
+        expected += ((1 - w) * original.result.mean[i + c] + w * coarse.result.mean[i + c]) / n;
+        variance += (sq(1 - w) * original.result.variance[i + c] + sq(w) * coarse.result.variance[i + c]) / (n * n);
+      }
+    }
+  const double error = std::sqrt(variance + sq(mipmap.error));
+  std::printf("original %.5f coarse %.5f mipmap %.5f expected %.5f +- %.5f\n", original.mean, coarse.mean, mipmap.mean,
+              expected, error);
+  ASSERT_GT(std::abs(original.mean - coarse.mean), 12 * error);  // a path on the wrong level would show
+  EXPECT_NEAR(mipmap.mean, expected, 4 * error);
+}
+
+// The levels of a mipmap must prefilter one original, finest first; the original must have their
+// cell count.
+TEST(Surfaces, MipmapOfUnlikeLevelsIsRefused) {
+  MipmapScenes scenes;
+  const auto refusal = [&](const std::vector<std::string>& levels, const std::string& file = "") {
+    HeightFieldDescription field;
+    field.file = file;
+    field.mipmap = levels;
+    SceneDescription d;
+    d.height_fields.push_back(field);
+    const auto reader = [&](const std::string& name) {
+      PrefilteredSurfaceFile f = scenes.coarse;
+      if (name != "a.json") f = prefilteredFile(HeightField(16, 16, 0.1), scenes.base, ScalingKind::Shadowing, 5, 8);
+      if (name == "eight.json") f = scenes.coarse, f.info.factor = 8;
+      if (name == "wide.json") f.info.size = 3.2;
+      if (name == "red.json") f.base = MicrofacetBrdf(MicrofacetDistribution(MicrofacetKind::GGX, 0.25), Rgb(1, 0, 0), Rgb::Zero());
+      return f;
+    };
+    try {
+      buildRenderScene(d, nullptr, [&](const std::string&) { return heightImage(HeightField(8, 8, 0.2)); }, reader);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal({"a.json", "a.json"}).find("a.json: factor 4 after factor 4: list the levels finest first"), std::string::npos);
+  EXPECT_NE(refusal({"a.json", "wide.json"}).find("wide.json: size differs from a.json's"), std::string::npos);
+  EXPECT_NE(refusal({"a.json", "red.json"}, "").find("red.json: the base BRDF differs"), std::string::npos);
+  EXPECT_NE(refusal({"a.json", "eight.json"}, "").find("eight.json: the original's cell count differs"), std::string::npos);
+  EXPECT_NE(refusal({"a.json"}, "small.exr").find("small.exr: 8 cells across, the mipmap's levels prefilter 16"), std::string::npos);
+}
+
+TEST(SceneFile, MipmapKeys) {
+  const auto refusal = [](const json& field) {
+    SceneDescription d;
+    try {
+      applySceneJson(json{{"height_fields", json::array({field})}}, "/data", "scene.json", &d);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    EXPECT_EQ(d.height_fields.at(0).mipmap.at(0), "/data/a.json");
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal({{"mipmap", {"a.json", "b.json"}}, {"file", "a.exr"}, {"scaling", false}, {"tiles", {2, 2}}}), "accepted");
+  EXPECT_NE(refusal({{"mipmap", json::array()}}).find("height_fields[0].mipmap"), std::string::npos);
+  EXPECT_NE(refusal({{"mipmap", "a.json"}}).find("height_fields[0].mipmap"), std::string::npos);
+  EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"brdf", {{"kind", "ggx"}}}}).find("height_fields[0].brdf: not with \"mipmap\""),
+            std::string::npos);
+  EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"prefiltered", "b.json"}}).find("height_fields[0].prefiltered"), std::string::npos);
 }
 
 // A render that would hold more than the limit (the machine's memory unless set) is refused before

@@ -1,0 +1,50 @@
+#pragma once
+// Level of detail for mipmaps of prefiltered displacement maps (§4.7.2, dissertation ch. 4): each
+// camera ray's pixel footprint on the map's base plane, in cells of the original map, picks the two
+// levels whose downsampling factors bracket it, and the path is traced on one of them, the coarser
+// with probability equal to the linear interpolation weight (in log factor). Over many paths this
+// is the chapter's linear interpolation of the two levels' path contributions, at the cost of one
+// path instead of two. The whole path sees that one level (render/surface_scene.h, DetailLevels).
+
+#include "libvdbappear/render/ray.h"
+
+#include <optional>
+#include <vector>
+
+namespace vdbappear {
+
+class RandomStream;
+
+// A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy.
+struct MipmapFootprint {
+  Vec3 origin = Vec3::Zero();
+  double width_x = 1, width_y = 1;  // all tiles together, world units
+  double cell = 1;                  // world width of one cell of the original map
+  std::vector<double> factors;      // of levels 0, 1, ...: increasing, 1 for the original map
+};
+
+// Levels `lower` and `upper` = lower + 1 (or both the same), upper with weight `weight`.
+struct LevelBlend {
+  int lower = 0, upper = 0;
+  double weight = 0;
+};
+
+// The footprint's width in original cells between factors F_k <= n < F_k+1 gives w =
+// log(n / F_k) / log(F_k+1 / F_k); below the finest factor the finest level, beyond the coarsest the
+// coarsest.
+LevelBlend blendForFootprint(const std::vector<double>& factors, double footprint_cells);
+
+// The width (sqrt of the area) of a camera ray's pixel footprint where it meets the mipmap's base
+// plane inside its tiles, in original cells, and the distance t there; nothing if it misses.
+struct Footprint {
+  double t = 0, cells = 0;
+};
+std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& camera_ray);
+
+// The level of a path from its camera ray: by the nearest mipmap the ray meets, drawing one uniform
+// number only where two levels blend (so that scenes and pixels without a blend keep their random
+// streams). A ray without spread (not from a camera) gets level 0, one that meets no mipmap the
+// coarsest of any (what it reaches after a bounce is far or blurred).
+int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& camera_ray, RandomStream& rng);
+
+}  // namespace vdbappear

@@ -1,0 +1,125 @@
+// Level of detail for mipmaps of prefiltered maps (§4.7.2): the blend between two levels, a camera
+// ray's pixel footprint on the base plane against the quad its pixel's corners cut out, the
+// frequency of each level over paths, and surfaces that only their own level's paths see.
+#include "libvdbappear/math/random_stream.h"
+#include "libvdbappear/render/camera.h"
+#include "libvdbappear/render/level_of_detail.h"
+#include "libvdbappear/render/surface_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace vdbappear {
+namespace {
+
+TEST(LevelOfDetail, BlendBracketsTheFootprintInLogFactor) {
+  const std::vector<double> factors{1, 8, 32};
+  const auto expect = [&](double cells, int lower, int upper, double weight) {
+    const LevelBlend b = blendForFootprint(factors, cells);
+    EXPECT_EQ(b.lower, lower) << cells;
+    EXPECT_EQ(b.upper, upper) << cells;
+    EXPECT_NEAR(b.weight, weight, 1e-12) << cells;
+  };
+  expect(0.3, 0, 0, 0);
+  expect(1, 0, 0, 0);
+  expect(std::sqrt(8.0), 0, 1, 0.5);  // half way between 1 and 8 in log
+  expect(8, 1, 2, 0);
+  expect(16, 1, 2, 0.5);
+  expect(32, 2, 2, 0);
+  expect(1e6, 2, 2, 0);
+  const LevelBlend single = blendForFootprint({8}, 100);
+  EXPECT_EQ(single.lower, 0);
+  EXPECT_EQ(single.upper, 0);
+}
+
+// The footprint's width is the square root of the area that the pixel's four corner rays cut out of
+// the plane, for a camera looking down obliquely, in the middle and at a corner of the image.
+TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
+  const int width = 400, height = 300;
+  const PinholeCamera camera({Vec3(0.3, -3, 2), Vec3(0, 0, 0), Vec3(0, 0, 1), 40}, width, height);
+  MipmapFootprint mipmap{Vec3(-50, -50, 0), 100, 100, 0.01, {1, 8}};
+  const auto onPlane = [&](double x, double y) {
+    const Ray r = camera.ray(x, y);
+    return Vec3(r(-r.o.z() / r.d.z()));
+  };
+  for (const auto& [x, y] : {std::pair{200.5, 150.5}, std::pair{20.5, 280.5}, std::pair{390.5, 10.5}}) {
+    const Vec3 a = onPlane(x - 0.5, y - 0.5), b = onPlane(x + 0.5, y - 0.5), c = onPlane(x + 0.5, y + 0.5),
+               d = onPlane(x - 0.5, y + 0.5);
+    const double area = 0.5 * std::abs((c - a).x() * (d - b).y() - (c - a).y() * (d - b).x());  // quad by its diagonals
+    const std::optional<Footprint> f = footprintOn(mipmap, camera.ray(x, y));
+    ASSERT_TRUE(f) << x << " " << y;
+    EXPECT_NEAR(f->cells * mipmap.cell, std::sqrt(area), 2e-3 * std::sqrt(area)) << x << " " << y;
+  }
+  mipmap.width_x = 0.1;  // the tiles end before the ray meets the plane: no footprint
+  EXPECT_FALSE(footprintOn(mipmap, camera.ray(20.5, 280.5)));
+  EXPECT_FALSE(footprintOn(mipmap, Ray{Vec3(0, 0, 1), Vec3(0, 0, 1), 1e-3}));  // away from the plane
+}
+
+// Over many camera rays of one footprint half way between two levels, the coarser is chosen half
+// the time; where no blend is needed no random number is drawn, and rays without spread get level 0.
+TEST(LevelOfDetail, PathLevelsFollowTheBlendWeight) {
+  const std::vector<MipmapFootprint> mipmaps{{Vec3(-1, -1, 0), 2, 2, 0.01, {1, 4, 16}}};
+  const Ray down{Vec3(0, 0, 1), Vec3(0, 0, -1), 0.08};  // 8 cells: half way between 4 and 16
+  RandomStream rng(7, {0});
+  const int n = 20000;
+  int coarser = 0;
+  for (int i = 0; i < n; ++i) {
+    const int level = pathLevel(mipmaps, down, rng);
+    ASSERT_TRUE(level == 1 || level == 2) << level;
+    coarser += level == 2;
+  }
+  EXPECT_NEAR(double(coarser) / n, 0.5, 4 * std::sqrt(0.25 / n));
+
+  RandomStream a(3, {1}), b(3, {1});
+  EXPECT_EQ(pathLevel(mipmaps, {Vec3(0, 0, 1), Vec3(0, 0, -1), 0.005}, a), 0);  // half a cell
+  EXPECT_EQ(pathLevel(mipmaps, {Vec3(0, 0, 1), Vec3(0, 0, -1), 1.0}, a), 2);    // 100 cells
+  EXPECT_EQ(pathLevel(mipmaps, {Vec3(5, 5, 1), Vec3(0, 0, -1), 0.08}, a), 2);   // misses the map: the coarsest
+  EXPECT_EQ(pathLevel(mipmaps, {Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0}, a), 0);    // not a camera ray
+  EXPECT_EQ(a.uniform(), b.uniform());
+}
+
+std::vector<Triangle> square(double z) {
+  const Vec3 p00(-1, -1, z), p10(1, -1, z), p11(1, 1, z), p01(-1, 1, z);
+  return {{p00, p10, p11}, {p00, p11, p01}};
+}
+
+// A mipmap's level 0 and its last level (which also stands for every level above) are seen only by
+// their own paths; a surface of no mipmap by every path.
+TEST(SurfaceScene, EachLevelSeesItsOwnSurfaces) {
+  SurfaceScene scene;
+  scene.addDiffuse(square(-1), Rgb::Constant(0.5));
+  scene.addGlossy(square(0), 0, DetailLevels{0, 0});
+  scene.addPrefiltered(square(1), 0, DetailLevels{1, DetailLevels::kLastLevel});
+  scene.commit();
+  EXPECT_EQ(scene.levelCount(), 2);
+  const Vec3 above(0.1, 0.2, 5), down(0, 0, -1);
+  const auto level0 = scene.intersect(above, down, 0, 100, 0);
+  ASSERT_TRUE(level0);
+  EXPECT_NEAR(level0->t, 5, 1e-6);
+  EXPECT_EQ(level0->brdf, 0);
+  EXPECT_EQ(level0->prefiltered, -1);
+  for (const int level : {1, 4}) {
+    const auto hit = scene.intersect(above, down, 0, 100, level);
+    ASSERT_TRUE(hit) << level;
+    EXPECT_NEAR(hit->t, 4, 1e-6) << level;
+    EXPECT_EQ(hit->prefiltered, 0) << level;
+  }
+  const Vec3 below(0.1, 0.2, -3), up(0, 0, 1);
+  for (const int level : {0, 1}) EXPECT_NEAR(scene.intersect(below, up, 0, 100, level)->t, 2, 1e-6) << level;
+  EXPECT_FALSE(scene.occluded(Vec3(0, 0, 0.5), up, 0, 2, 0));
+  EXPECT_TRUE(scene.occluded(Vec3(0, 0, 0.5), up, 0, 2, 1));
+  EXPECT_TRUE(scene.occluded(Vec3(0, 0, -0.5), down, 0, 2, 0));
+  EXPECT_FALSE(scene.occluded(Vec3(0, 0, -0.5), Vec3(1, 0, 0), 0, 2, 0));
+}
+
+TEST(SurfaceScene, WithoutMipmapsOneLevelServesAll) {
+  SurfaceScene scene;
+  scene.addDiffuse(square(0), Rgb::Constant(0.5));
+  scene.commit();
+  EXPECT_EQ(scene.levelCount(), 1);
+  for (const int level : {0, 3}) EXPECT_TRUE(scene.intersect(Vec3(0, 0, 1), Vec3(0, 0, -1), 0, 10, level)) << level;
+}
+
+}  // namespace
+}  // namespace vdbappear
