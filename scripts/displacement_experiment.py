@@ -17,10 +17,16 @@ downsampling factor of --factors:
    error in mean intensity is at most one third of naive's and at most 3%.
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
+4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5): the map tiled 4 x 4 and seen at a grazing angle,
+   so that a pixel covers from 2 to 40 original cells, under global illumination: the original at
+   --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
+   R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
+   the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), and
+   peak memory (/usr/bin/time -v).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 512]
         [--factors 8,32] [--surfaces woven,noise,relief] [--rates quick|chapter] [--spp-ref 1024]
-        [--spp 128] [--equal-time 10] [--res 192x144]
+        [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
 """
 import argparse
 import json
@@ -38,6 +44,10 @@ CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0
 SUN = {"type": "sun", "direction": [0.62, -0.38, -0.69], "strength": 3.0}
 SKY = {"type": "env", "radiance": [0.25, 0.3, 0.4]}
 LIGHTING = {"direct": ([SUN], 1), "gi": ([SUN, SKY], -1)}  # lights, --max-depth (-1: the default)
+# Over 4 x 4 tiles toward +y, low: a pixel's footprint grows from 1.7 original cells (512 per tile)
+# at the bottom row to 43 at the far edge, above which is sky.
+LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
+LOD_TILES = [4, 4]
 
 
 def run(cmd):
@@ -65,16 +75,18 @@ def height_field(model, surface, manifest):
     return {"prefiltered": manifest.name, "scaling": model == "full"}
 
 
-def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=False):
+def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=False, camera=CAMERA,
+           memory=False):
     lights, depth = LIGHTING[lighting]
     if reuse and (out / f"{name}.exr").exists():  # the same reference for every factor
         return out / f"{name}.exr", 0
     scene = out / f"{name}.scene.json"
-    scene.write_text(json.dumps({"resolution": res, "seed": seed, "camera": CAMERA, "lights": lights,
+    scene.write_text(json.dumps({"resolution": res, "seed": seed, "camera": camera, "lights": lights,
                                  "height_fields": [field]}, indent=1))
     image = out / f"{name}.exr"
-    cmd = [tool(build, "vdb_render"), "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
-           "--report", out / f"{name}.render.json"]
+    cmd = ["/usr/bin/time", "-v", "-o", out / f"{name}.time.txt"] if memory else []
+    cmd += [tool(build, "vdb_render"), "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
+            "--report", out / f"{name}.render.json"]
     cmd += ["--time", seconds, "--spp", 1 << 20] if seconds else ["--spp", spp]
     if depth > 0:
         cmd += ["--max-depth", depth]
@@ -124,7 +136,44 @@ def study(args, out, surface, factor, rows, timing_rows):
               f"full {row['full']:+.2%} ({'pass' if row['passed'] else 'FAIL'})", flush=True)
 
 
-def write_report(args, out, rows, timing_rows, seconds):
+def peak_memory_mb(out, name):
+    for line in (out / f"{name}.time.txt").read_text().splitlines():
+        if "Maximum resident set size" in line:
+            return int(line.split(":")[-1]) / 1024
+    return float("nan")
+
+
+def level_of_detail(args, out, surface, lod_rows):
+    """Section 4: the mipmap against the original at equal render time, over a grazing tiled view."""
+    res = [int(v) for v in args.res.split("x")]
+    factors = [int(f) for f in args.factors.split(",")]
+    levels = [f"{surface}_{f}x_interreflection.json" for f in factors]
+    fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
+              "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
+              "models": {"mipmap": levels, "tiles": LOD_TILES}}
+    reference, _ = render(args.build, out, f"{surface}_lod_reference", fields["original"], "gi", res,
+                          spp=args.lod_spp_ref, seed=7, reuse=True, camera=LOD_CAMERA)
+    for spp in [int(v) for v in args.lod_spp.split(",")]:
+        row = {"surface": surface, "spp": spp}
+        for model in ("original", "mipmap", "models"):
+            name = f"{surface}_lod_{model}_{spp}"
+            if model == "original":
+                render(args.build, out, name, fields[model], "gi", res, spp=spp, camera=LOD_CAMERA, memory=True)
+            else:
+                render(args.build, out, name, fields[model], "gi", res, seconds=row["seconds"], camera=LOD_CAMERA,
+                       memory=True)
+            stats = json.loads((out / f"{name}.render.json").read_text())
+            c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
+            row[model] = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
+                          "peak_mb": peak_memory_mb(out, name)}
+            if model == "original":
+                row["seconds"] = stats["seconds"]
+        lod_rows.append(row)
+        print(f"{surface} level of detail, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f},"
+              f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
+
+
+def write_report(args, out, rows, timing_rows, lod_rows, seconds):
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
@@ -147,6 +196,18 @@ def write_report(args, out, rows, timing_rows, seconds):
             o, f = r["equal_time_reference"], r["equal_time_full"]
             lines.append(f"| {r['surface']} | {r['factor']}x | {o['rmse']:.4g} ({o['spp']}) | {f['rmse']:.4g} ({f['spp']}) |"
                          f" {'full' if f['rmse'] < o['rmse'] else 'original'} |")
+    lines += ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
+              f"Global illumination; a pixel covers 1.7 to 43 original cells; RMSE and mean relative error "
+              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
+              f"models at {args.factors}x as levels; `models`: those models alone. Peak memory of vdb_render "
+              "(/usr/bin/time -v).", "",
+              "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
+              " mipmap, models | peak MB: original, mipmap, models |", "|---|---|---|---|---|---|---|"]
+    for r in lod_rows:
+        o, m, n = r["original"], r["mipmap"], r["models"]
+        lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
+                     f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
+                     f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
     lines += ["", "## Precomputation and storage (Tables 4.3-4.4)", "",
               "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
               "32-bit floats.", "",
@@ -162,8 +223,13 @@ def write_report(args, out, rows, timing_rows, seconds):
     for r in rows:
         tag = f"{r['surface']}_{r['factor']}x_{r['lighting']}"
         lines.append(f"- {tag}: " + ", ".join(f"[{m}]({tag}_{m}_sbs.png)" for m in ("naive", "multi-lobe", "full")))
+    for r in lod_rows:
+        tag = f"{r['surface']}_lod"
+        lines.append(f"- {tag}, {r['spp']} spp of the original: " +
+                     ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ("original", "mipmap", "models")))
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    (out / "report.json").write_text(json.dumps({"rows": rows, "precomputation": timing_rows}, indent=1))
+    (out / "report.json").write_text(json.dumps({"rows": rows, "precomputation": timing_rows, "level_of_detail": lod_rows},
+                                                indent=1))
 
 
 def main():
@@ -178,16 +244,19 @@ def main():
     parser.add_argument("--spp", type=int, default=128)
     parser.add_argument("--equal-time", type=float, default=10)
     parser.add_argument("--res", default="192x144")
+    parser.add_argument("--lod-spp", default="16,64,256")
+    parser.add_argument("--lod-spp-ref", type=int, default=2048)
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
-    rows, timing_rows = [], []
+    rows, timing_rows, lod_rows = [], [], []
     for surface in args.surfaces.split(","):
         run([tool(args.build, "vdb_make_height_map"), surface, "--cells", args.cells, "-o", out / f"{surface}.exr"])
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
-    write_report(args, out, rows, timing_rows, time.time() - start)
+        level_of_detail(args, out, surface, lod_rows)
+    write_report(args, out, rows, timing_rows, lod_rows, time.time() - start)
     print(f"{out / 'report.md'}: {sum(r['passed'] for r in rows)} of {len(rows)} gates pass")
 
 

@@ -431,13 +431,9 @@ DetailLevels mipmapLevel(std::size_t j, std::size_t n) {
   return {int(j), j + 1 == n ? DetailLevels::kLastLevel : int(j)};
 }
 
-// A mipmap (§4.7.2): its prefiltered levels, and the original below them when "file" is given,
-// each a surface of its own level of detail; the manifests must describe one original.
-void addMipmap(const HeightFieldDescription& field, const ImageReader& read_image, const PrefilteredReader& read,
-               RenderScene* scene, Aabb* bounds) {
-  if (!read) throw std::runtime_error(field.mipmap.front() + ": no reader for prefiltered displacement maps");
-  std::vector<PrefilteredSurfaceFile> levels;
-  for (const std::string& manifest : field.mipmap) levels.push_back(read(manifest));
+// The levels of a mipmap must prefilter one original, finest first. Returns the original's cells
+// across.
+int checkMipmapLevels(const HeightFieldDescription& field, const std::vector<PrefilteredSurfaceFile>& levels) {
   const PrefilteredSurfaceFile& first = levels.front();
   const int fine_cells = first.surface.height.cellsX() * first.info.factor;
   for (std::size_t j = 0; j < levels.size(); ++j) {
@@ -454,6 +450,18 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     if (level.info.height_scale != first.info.height_scale) mismatch("height_scale");
     if (brdfToJson(level.base) != brdfToJson(first.base)) mismatch("the base BRDF");
   }
+  return fine_cells;
+}
+
+// A mipmap (§4.7.2): its prefiltered levels, and the original below them when "file" is given,
+// each a surface of its own level of detail.
+void addMipmap(const HeightFieldDescription& field, const ImageReader& read_image, const PrefilteredReader& read,
+               RenderScene* scene, Aabb* bounds) {
+  if (!read) throw std::runtime_error(field.mipmap.front() + ": no reader for prefiltered displacement maps");
+  std::vector<PrefilteredSurfaceFile> levels;
+  for (const std::string& manifest : field.mipmap) levels.push_back(read(manifest));
+  const int fine_cells = checkMipmapLevels(field, levels);
+  const PrefilteredSurfaceFile& first = levels.front();
   HeightFieldPlacement placement = field.placement;
   MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
                             first.info.size / fine_cells, {}};

@@ -85,6 +85,26 @@ TEST(DisplacementCli, MapPrefilteredAndRenderedThroughTheTools) {
   EXPECT_NE(refused.status, 0);
   EXPECT_NE(refused.err.find("height_fields[0].size: not with \"prefiltered\""), std::string::npos) << refused.err;
   EXPECT_FALSE(exists(dir.path("bad.exr")));
+
+  // A mipmap of the original and its models at factors 4 and 8 (§4.7.2); listed coarsest first it
+  // is refused, naming the level, and writes nothing.
+  std::string quick_at_8 = kQuick;
+  quick_at_8.replace(quick_at_8.find("-f 4"), 4, "-f 8");
+  ASSERT_EQ(runCommand(kPrefilter + " " + quote(map) + " " + quote(dir.path("eight.json")) + quick_at_8 + brdf).status, 0);
+  std::ofstream(dir.path("mipmap.json")) << R"({"resolution": [24, 16], "spp": 4,
+    "camera": {"position": [0.5, -1.5, 1.2], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 40},
+    "lights": [{"type": "sun", "direction": [0.3, 0.4, -1], "strength": 2}],
+    "height_fields": [{"file": "noise.exr", "mipmap": ["one.json", "eight.json"], "tiles": [2, 1]}]})";
+  const auto mipmap = runCommand(kRender + " --scene " + quote(dir.path("mipmap.json")) + " -o " + quote(dir.path("m.exr")));
+  ASSERT_EQ(mipmap.status, 0) << mipmap.err;
+  EXPECT_TRUE(exists(dir.path("m.exr")));
+  std::ofstream(dir.path("reversed.json")) << R"({"camera": {"position": [0.5, -1.5, 1.2], "target": [0.5, 0.5, 0]},
+    "height_fields": [{"mipmap": ["eight.json", "one.json"]}]})";
+  const auto reversed = runCommand(kRender + " --scene " + quote(dir.path("reversed.json")) + " -o " + quote(dir.path("bad.exr")));
+  EXPECT_NE(reversed.status, 0);
+  EXPECT_EQ(lineCount(reversed.err), 1) << reversed.err;
+  EXPECT_NE(reversed.err.find("one.json: factor 4 after factor 8"), std::string::npos) << reversed.err;
+  EXPECT_FALSE(exists(dir.path("bad.exr")));
 }
 
 // flag_parser: CLI11's refusals add "Run with --help for more information."
