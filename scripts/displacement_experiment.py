@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Displacement-map prefiltering (issue 23, dissertation ch. 4), measured: `make displacement`.
 
-For each procedural surface of vdb_make_height_map (woven, noise, relief) at --cells^2 cells and each
-downsampling factor of --factors:
+For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
+"ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
+Fig. 4.18) and each downsampling factor of --factors:
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
    light) and with the interreflection scaling R_ir (Eq. 4.20, for global illumination); its report
    gives the seconds of each step and the bytes of each part (Table 4.3-4.4).
@@ -17,7 +18,7 @@ downsampling factor of --factors:
    error in mean intensity is at most one third of naive's and at most 3%.
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
-4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5): the map tiled 4 x 4 and seen at a grazing angle,
+4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
    so that a pixel covers from 2 to 40 original cells, under global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
    R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
@@ -25,8 +26,9 @@ downsampling factor of --factors:
    peak memory (/usr/bin/time -v).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 512]
-        [--factors 8,32] [--surfaces woven,noise,relief] [--rates quick|chapter] [--spp-ref 1024]
+        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|chapter] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
+        [--ball-cells 256]
 """
 import argparse
 import json
@@ -48,6 +50,13 @@ LIGHTING = {"direct": ([SUN], 1), "gi": ([SUN, SKY], -1)}  # lights, --max-depth
 # at the bottom row to 43 at the far edge, above which is sky.
 LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
 LOD_TILES = [4, 4]
+# The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
+BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
+        "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
+
+
+def map_kind(surface):
+    return BALL["map"] if surface == "ball" else surface
 
 
 def run(cmd):
@@ -68,11 +77,12 @@ def prefilter(build, out, surface, factor, scaling, rates):
 
 
 def height_field(model, surface, manifest):
+    placement = BALL["placement"] if surface == "ball" else {}
     if model == "reference":
-        return {"file": f"{surface}.exr", "brdf": BRDF}
+        return {"file": f"{surface}.exr", "brdf": BRDF, **placement}
     if model == "naive":
-        return {"file": manifest.name.replace(".json", ".height.exr"), "brdf": BRDF}
-    return {"prefiltered": manifest.name, "scaling": model == "full"}
+        return {"file": manifest.name.replace(".json", ".height.exr"), "brdf": BRDF, **placement}
+    return {"prefiltered": manifest.name, "scaling": model == "full", **placement}
 
 
 def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=False, camera=CAMERA,
@@ -104,6 +114,7 @@ def compare(build, reference, test, error_map=None):
 
 def study(args, out, surface, factor, rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
+    camera = BALL["camera"] if surface == "ball" else CAMERA
     for lighting in LIGHTING:
         scaling = "shadowing" if lighting == "direct" else "interreflection"
         manifest, prefilter_report = prefilter(args.build, out, surface, factor, scaling, args.rates)
@@ -112,11 +123,12 @@ def study(args, out, surface, factor, rows, timing_rows):
                             "ranges": prefilter_report["scaling"]})
         tag = f"{surface}_{factor}x_{lighting}"
         reference, _ = render(args.build, out, f"{surface}_{lighting}_reference",
-                              height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref, reuse=True)
+                              height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref, reuse=True,
+                              camera=camera)
         row = {"surface": surface, "factor": factor, "lighting": lighting}
         for model in ("naive", "multi-lobe", "full"):
             image, _ = render(args.build, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting, res,
-                              spp=args.spp)
+                              spp=args.spp, camera=camera)
             c = compare(args.build, reference, image, out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
         naive, full = abs(row["naive"]), abs(row["full"])
@@ -124,10 +136,10 @@ def study(args, out, surface, factor, rows, timing_rows):
         if lighting == "gi" and args.equal_time > 0:
             # Another seed for the reference of the noise measurement, so that noise does not cancel.
             converged, _ = render(args.build, out, f"{surface}_gi_converged", height_field("reference", surface, manifest),
-                                  lighting, res, spp=args.spp_ref, seed=7, reuse=True)
+                                  lighting, res, spp=args.spp_ref, seed=7, reuse=True, camera=camera)
             for model in ("reference", "full"):
                 image, _ = render(args.build, out, f"{tag}_{model}_equal_time", height_field(model, surface, manifest),
-                                  lighting, res, seconds=args.equal_time)
+                                  lighting, res, seconds=args.equal_time, camera=camera)
                 stats = json.loads((out / f"{tag}_{model}_equal_time.render.json").read_text())
                 row[f"equal_time_{model}"] = {"rmse": compare(args.build, converged, image)["rmse"],
                                               "spp": stats.get("spp"), "seconds": stats.get("seconds")}
@@ -238,7 +250,7 @@ def main():
     parser.add_argument("--out", default="displacement-out")
     parser.add_argument("--cells", type=int, default=512)
     parser.add_argument("--factors", default="8,32")
-    parser.add_argument("--surfaces", default="woven,noise,relief")
+    parser.add_argument("--surfaces", default="woven,noise,relief,ball")
     parser.add_argument("--rates", choices=sorted(RATES), default="quick")
     parser.add_argument("--spp-ref", type=int, default=1024)
     parser.add_argument("--spp", type=int, default=128)
@@ -246,16 +258,19 @@ def main():
     parser.add_argument("--res", default="192x144")
     parser.add_argument("--lod-spp", default="16,64,256")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
+    parser.add_argument("--ball-cells", type=int, default=256)
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
     rows, timing_rows, lod_rows = [], [], []
     for surface in args.surfaces.split(","):
-        run([tool(args.build, "vdb_make_height_map"), surface, "--cells", args.cells, "-o", out / f"{surface}.exr"])
+        cells = args.ball_cells if surface == "ball" else args.cells
+        run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", cells, "-o", out / f"{surface}.exr"])
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
-        level_of_detail(args, out, surface, lod_rows)
+        if surface != "ball":  # mipmaps lie on planes
+            level_of_detail(args, out, surface, lod_rows)
     write_report(args, out, rows, timing_rows, lod_rows, time.time() - start)
     print(f"{out / 'report.md'}: {sum(r['passed'] for r in rows)} of {len(rows)} gates pass")
 

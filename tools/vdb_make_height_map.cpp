@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 using namespace vdbappear;
 
@@ -28,7 +29,9 @@ every map tiles seamlessly.)";
 constexpr const char* kDescriptions[] = {
     "a 4-harness twill from its yarns: 16 warp and 16 weft yarns rising over and dipping under each other",
     "a noise floor: 48 periodic sinusoids of 4 to 64 cycles per map, amplitudes as 1/f, RMS slope 0.6 (--seed)",
-    "a relief: 8 x 8 raised squares with chamfered edges and engraved rings"};
+    "a relief: 8 x 8 raised squares with chamfered edges and engraved rings",
+    "bumps: 8 x 8 round caps, one inside each lattice cell, radii and places by --seed (the chapter's ball)"};
+static_assert(std::size(kDescriptions) == 4, "one description per kind of heightMapNames()");
 
 }  // namespace
 
@@ -48,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_option("--cells", cells, "cells per side; the image has one pixel more (woven: a multiple of 16)")
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
-  app.add_option("--seed", seed, "random seed (noise)")->capture_default_str();
+  app.add_option("--seed", seed, "random seed (noise, bumps)")->capture_default_str();
   app.add_flag("-v,--verbose", verbose, "print the map's height range and RMS slope to stderr");
 
   return tool::run(app, argc, argv, [&] {

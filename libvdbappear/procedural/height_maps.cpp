@@ -90,8 +90,20 @@ HeightField reliefHeightMap(int cells) {
   });
 }
 
+HeightField bumpsHeightMap(int cells, std::uint64_t seed) {
+  const int lattice = 8;
+  const double flattening = 0.6;
+  return sampled(cells, [&](double x, double y) {
+    const int a = int(std::floor(positiveModulo(x * lattice, lattice))), b = int(std::floor(positiveModulo(y * lattice, lattice)));
+    const double radius = 0.3 + 0.15 * hashUniform(seed, {a, b, 0});
+    const double cx = a + 0.5 + 0.1 * (hashUniform(seed, {a, b, 1}) - 0.5), cy = b + 0.5 + 0.1 * (hashUniform(seed, {a, b, 2}) - 0.5);
+    const double d2 = std::pow(positiveModulo(x * lattice, lattice) - cx, 2) + std::pow(positiveModulo(y * lattice, lattice) - cy, 2);
+    return d2 < radius * radius ? flattening * std::sqrt(radius * radius - d2) / lattice : 0.0;
+  });
+}
+
 const std::vector<std::string>& heightMapNames() {
-  static const std::vector<std::string> names{"woven", "noise", "relief"};
+  static const std::vector<std::string> names{"woven", "noise", "relief", "bumps"};
   return names;
 }
 
@@ -99,7 +111,8 @@ HeightField heightMapByName(const std::string& name, int cells, std::uint64_t se
   if (name == "woven") return wovenHeightMap(cells, WeavePattern::twill(4), 16);
   if (name == "noise") return noiseHeightMap(cells, seed);
   if (name == "relief") return reliefHeightMap(cells);
-  throw std::invalid_argument("unknown height map '" + name + "' (woven, noise, relief)");
+  if (name == "bumps") return bumpsHeightMap(cells, seed);
+  throw std::invalid_argument("unknown height map '" + name + "' (woven, noise, relief, bumps)");
 }
 
 }  // namespace vdbappear

@@ -1,7 +1,7 @@
 #pragma once
 // Procedural displacement maps for the prefiltering of the displacement chapter
-// (shared/papers/002_6a636dc24396287c.txt, Fig. 4.15 as models): a twill's yarns, a noise floor and
-// a relief. Each is cells x cells bilinear cells over a map of width 1 (heights in the same units),
+// (shared/papers/002_6a636dc24396287c.txt, Fig. 4.15 as models): a twill's yarns, a noise floor,
+// a relief and bumps. Each is cells x cells bilinear cells over a map of width 1 (heights in the same units),
 // and tiles seamlessly (opposite edges match), as Table 4.3's tiled models need.
 
 #include "libvdbappear/surface/height_field.h"
@@ -28,7 +28,12 @@ HeightField noiseHeightMap(int cells, std::uint64_t seed);
 // A relief: 8 x 8 raised squares with chamfered edges, each with an engraved ring.
 HeightField reliefHeightMap(int cells);
 
-// "woven" (a 4-harness twill, 16 yarns), "noise" or "relief"; throws std::invalid_argument otherwise.
+// Bumps (the chapter's "bump" model of its ball scene, Fig. 4.15(c)): 8 x 8 round caps, one per
+// lattice cell, each a flattened sphere cap of radius 0.3-0.45 cells moved up to 0.05 cells from
+// the cell's centre (by the seed), so that every cap stays inside its cell and the map tiles.
+HeightField bumpsHeightMap(int cells, std::uint64_t seed);
+
+// "woven" (a 4-harness twill, 16 yarns), "noise", "relief" or "bumps"; throws std::invalid_argument otherwise.
 HeightField heightMapByName(const std::string& name, int cells, std::uint64_t seed);
 const std::vector<std::string>& heightMapNames();
 

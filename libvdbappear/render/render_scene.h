@@ -8,9 +8,11 @@
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
+#include "libvdbappear/surface/sphere_shell.h"
 
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace vdbappear {
@@ -19,15 +21,23 @@ class PrefilteredBrdf;
 class ShGridLookup;
 class TranslucentObject;
 
-// A prefiltered displacement map as placed in the scene: its SVBRDF and where its tiles lie.
+// A prefiltered displacement map as placed in the scene: its SVBRDF and where its tiles lie, on a
+// plane or shell-mapped over a sphere.
 struct PrefilteredPlacement {
   std::shared_ptr<const PrefilteredBrdf> brdf;
   Vec3 origin = Vec3::Zero();  // vertex (0, 0) of the first tile at height 0
   double size = 1;             // of one tile along x and y
+  std::optional<SphereShell> shell;  // instead of the plane through origin
   // The base position in [0,1)^2 of the tile under world point p.
   Point2 mapPosition(const Vec3& p) const {
-    const double x = (p.x() - origin.x()) / size, y = (p.y() - origin.y()) / size;
-    return {x - std::floor(x), y - std::floor(y)};
+    const Point2 uv = shell ? shell->tileCoordinates(p) : Point2((p.x() - origin.x()) / size, (p.y() - origin.y()) / size);
+    return {uv.x() - std::floor(uv.x()), uv.y() - std::floor(uv.y())};
+  }
+  // The map's base frame (x, y, height) in world directions at p: the world's axes on the plane.
+  Frame baseFrame(const Vec3& p) const {
+    if (!shell) return {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+    const Point2 uv = shell->tileCoordinates(p);
+    return shell->frame(uv.x(), uv.y());
   }
 };
 

@@ -145,9 +145,14 @@ namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
-  checkKeys(h, {"file", "prefiltered", "mipmap", "scaling", "size", "origin", "height_scale", "tiles", "albedo", "brdf"},
+  checkKeys(h, {"file", "prefiltered", "mipmap", "scaling", "size", "origin", "sphere", "height_scale", "tiles", "albedo", "brdf"},
             source, where);
   HeightFieldDescription field;
+  if (h.contains("sphere")) {
+    if (h.contains("origin")) fail(source, where + ".sphere", "not with \"origin\" (the sphere's centre places it)");
+    if (h.contains("mipmap")) fail(source, where + ".sphere", "not with \"mipmap\" (mipmaps lie on planes)");
+    field.sphere_centre = vec3Of(h["sphere"], source, where + ".sphere");
+  }
   if (h.contains("mipmap")) {
     const json& m = h["mipmap"];
     if (!m.is_array() || m.empty()) fail(source, where + ".mipmap", "expected [\"LEVEL.json\", ...], finest first");
@@ -410,6 +415,17 @@ HeightField readHeightField(const HeightFieldDescription& field, const ImageRead
   return heightFieldFromImage(image, field.size / std::max(1, image.width - 1), field.file);
 }
 
+std::optional<SphereShell> shellOf(const HeightFieldDescription& field, double size) {
+  if (!field.sphere_centre) return std::nullopt;
+  return SphereShell::ofTiles(*field.sphere_centre, size, field.placement.tiles_x, field.placement.tiles_y);
+}
+
+// A height field's triangles on its plane or its sphere.
+std::vector<Triangle> placedTriangles(const HeightField& height, const HeightFieldDescription& field) {
+  const std::optional<SphereShell> shell = shellOf(field, field.size);
+  return shell ? shellTriangles(height, *shell, field.placement.height_scale) : heightFieldTriangles(height, field.placement);
+}
+
 // h_low of a prefiltered map, tessellated as a height field (its heights are world units), and its
 // SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
 void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
@@ -418,10 +434,13 @@ void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader
   if (!field.scaling) file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};  // f'_low alone
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
-  const std::vector<Triangle> triangles = heightFieldTriangles(file.surface.height, placement);
+  const std::optional<SphereShell> shell = shellOf(field, file.info.size);
+  const std::vector<Triangle> triangles = shell ? shellTriangles(file.surface.height, *shell, 1)
+                                                : heightFieldTriangles(file.surface.height, placement);
   for (const Triangle& t : triangles)
     for (const Vec3& v : t) bounds->extend(v);
-  scene->prefiltered.push_back({std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size});
+  scene->prefiltered.push_back(
+      {std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size, shell});
   scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1));
 }
 
@@ -488,7 +507,8 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     const std::vector<Triangle> triangles = heightFieldTriangles(level.surface.height, placement);
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) bounds->extend(v);
-    scene->prefiltered.push_back({std::make_shared<PrefilteredBrdf>(level.surface, level.base), placement.origin, level.info.size});
+    scene->prefiltered.push_back(
+        {std::make_shared<PrefilteredBrdf>(level.surface, level.base), placement.origin, level.info.size, std::nullopt});
     scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1), mipmapLevel(j++, n));
     footprint.factors.push_back(level.info.factor);
   }
@@ -561,7 +581,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       addPrefiltered(field, read_prefiltered, &scene, &everything);
       continue;
     }
-    const std::vector<Triangle> triangles = heightFieldTriangles(readHeightField(field, read_image), field.placement);
+    const std::vector<Triangle> triangles = placedTriangles(readHeightField(field, read_image), field);
     for (const Triangle& t : triangles)
       for (const Vec3& v : t) everything.extend(v);
     addOpaque(triangles, field.albedo, field.brdf, &scene);

@@ -60,8 +60,12 @@ struct GroundDescription {
 // (optional "file", its size, height scale and BRDF from the manifests) as its finest level; each
 // path is traced on the level its camera ray's pixel footprint picks (§4.7.2;
 // render/level_of_detail.h).
+// "sphere": [x, y, z] (with "file" or "prefiltered", not "origin"): the tiles shell-mapped over a
+// sphere centred there on which tiles[0] tiles span the equator, tiles[1] pole to pole
+// (surface/sphere_shell.h; the ball of Fig. 4.18).
 struct HeightFieldDescription {
   std::string file;
+  std::optional<Vec3> sphere_centre;
   std::string prefiltered;  // the manifest, instead of file
   std::vector<std::string> mipmap;  // manifests, instead of prefiltered; file: the original as level 0
   bool scaling = true;      // prefiltered: f_low = T S f'_low, or f'_low alone

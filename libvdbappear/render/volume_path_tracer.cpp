@@ -52,6 +52,7 @@ struct VolumePathTracer::Vertex {
   // position map_x; the cosine is the coarse surface's (docs/displacement.md §8).
   const PrefilteredBrdf* prefiltered = nullptr;
   Point2 map_x;
+  Frame map_frame;  // the map's base frame at p (world axes on a plane, the tangent frame on a shell)
   int level = 0;  // the path's level of detail (render/level_of_detail.h)
 
   bool lambertian() const { return on_surface && !brdf && !prefiltered; }
@@ -59,7 +60,8 @@ struct VolumePathTracer::Vertex {
     if (!on_surface) return medium.eval(wi, wo);
     const double cos_o = std::max(0.0, normal.dot(wo));
     if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
-    if (prefiltered) return cos_o > 0 ? Rgb(prefiltered->eval(map_x, wo, wi) * cos_o) : Rgb(Rgb::Zero());
+    if (prefiltered)
+      return cos_o > 0 ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o) : Rgb(Rgb::Zero());
     return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
@@ -67,7 +69,7 @@ struct VolumePathTracer::Vertex {
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const {
     if (!on_surface) return medium.pdf(wi, wo);
-    if (prefiltered) return prefiltered->pdf(map_x, wi, wo);
+    if (prefiltered) return prefiltered->pdf(map_x, map_frame.toLocal(wi), map_frame.toLocal(wo));
     return brdf ? brdf->pdf(frame.toLocal(wi), frame.toLocal(wo)) : cosineHemispherePdf(normal.dot(wo));
   }
   // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
@@ -80,9 +82,10 @@ struct VolumePathTracer::Vertex {
       return {frame.toWorld(s.wi), s.pdf, s.weight};
     }
     if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
-      const BrdfSample s = prefiltered->sample(map_x, wi, u_lobe, u);
-      if (!(s.pdf > 0)) return {s.wi, 0, Rgb::Zero()};
-      return {s.wi, s.pdf, eval(s.wi) / s.pdf};
+      const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u);
+      const Vec3 wo = map_frame.toWorld(s.wi);
+      if (!(s.pdf > 0)) return {wo, 0, Rgb::Zero()};
+      return {wo, s.pdf, eval(wo) / s.pdf};
     }
     const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
     const double pdf = cosineHemispherePdf(normal.dot(wo));
@@ -259,6 +262,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
         const PrefilteredPlacement& placement = scene_.prefiltered[std::size_t(hit->prefiltered)];
         vertex.prefiltered = placement.brdf.get();
         vertex.map_x = placement.mapPosition(vertex.p);
+        vertex.map_frame = placement.baseFrame(vertex.p);
       }
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);

@@ -42,7 +42,7 @@ TEST(DisplacementCli, HelpShowsExamples) {
     EXPECT_NE(r.out.find("Examples:"), std::string::npos) << tool;
   }
   const auto list = runCommand(kMakeMap + " --list");
-  for (const char* kind : {"woven", "noise", "relief"}) EXPECT_NE(list.out.find(kind), std::string::npos) << kind;
+  for (const char* kind : {"woven", "noise", "relief", "bumps"}) EXPECT_NE(list.out.find(kind), std::string::npos) << kind;
 }
 
 // A noise map of 32^2 cells, prefiltered at factor 4 on one thread and on two (the same four

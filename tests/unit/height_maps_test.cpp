@@ -1,11 +1,13 @@
 // The procedural displacement maps (libvdbappear/procedural/height_maps.h): each tiles (opposite
 // edges match), the noise floor has its stated RMS slope and follows its seed, the twill's warp
 // yarns lie as the weave's draft says, and unknown names are refused.
+#include "libvdbappear/math/constants.h"
 #include "libvdbappear/procedural/height_maps.h"
 #include "libvdbappear/procedural/weave_pattern.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -58,6 +60,29 @@ TEST(HeightMaps, TwillYarnsLieAsTheDraftSays) {
       warp_on_top += twill.warpOver(warp, weft);
     }
   EXPECT_EQ(warp_on_top, yarns * yarns / 2);
+}
+
+// Bumps are caps inside their lattice cells: none below zero, none above the tallest cap
+// (0.6 x 0.45 cells), zero along the lattice lines (so the map tiles whatever the seed), and caps
+// cover between pi 0.3^2 and pi 0.45^2 of the map.
+TEST(HeightMaps, BumpsAreCapsInsideTheirCells) {
+  const int cells = 256;
+  const HeightField f = bumpsHeightMap(cells, 11);
+  double peak = 0, covered = 0;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      const double h = f.at(i, j);
+      EXPECT_GE(h, 0);
+      peak = std::max(peak, h);
+      if (i < cells && j < cells) covered += h > 0;
+      if (i % (cells / 8) == 0 || j % (cells / 8) == 0) EXPECT_EQ(h, 0) << i << " " << j;
+    }
+  EXPECT_LE(peak, 0.6 * 0.45 / 8 + 1e-12);
+  EXPECT_GT(peak, 0.6 * 0.3 / 8);
+  covered /= double(cells) * cells;
+  EXPECT_GT(covered, kPi * 0.3 * 0.3);
+  EXPECT_LT(covered, kPi * 0.45 * 0.45);
+  EXPECT_NE(bumpsHeightMap(cells, 12).heights(), f.heights());
 }
 
 }  // namespace
