@@ -208,7 +208,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds):
             o, f = r["equal_time_reference"], r["equal_time_full"]
             lines.append(f"| {r['surface']} | {r['factor']}x | {o['rmse']:.4g} ({o['spp']}) | {f['rmse']:.4g} ({f['spp']}) |"
                          f" {'full' if f['rmse'] < o['rmse'] else 'original'} |")
-    lines += ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
+    lines += [] if not lod_rows else ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
               f"Global illumination; a pixel covers 1.7 to 43 original cells; RMSE and mean relative error "
               f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
               f"models at {args.factors}x as levels; `models`: those models alone. Peak memory of vdb_render "
