@@ -19,7 +19,7 @@ Fig. 4.18) and each downsampling factor of --factors:
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
-   so that a pixel covers from 2 to 40 original cells, under global illumination: the original at
+   so that a pixel covers from 1.7 to 43 original cells, under global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
    R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
    the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), and

@@ -28,9 +28,10 @@ HeightField noiseHeightMap(int cells, std::uint64_t seed);
 // A relief: 8 x 8 raised squares with chamfered edges, each with an engraved ring.
 HeightField reliefHeightMap(int cells);
 
-// Bumps (the chapter's "bump" model of its ball scene, Fig. 4.15(c)): 8 x 8 round caps, one per
-// lattice cell, each a flattened sphere cap of radius 0.3-0.45 cells moved up to 0.05 cells from
-// the cell's centre (by the seed), so that every cap stays inside its cell and the map tiles.
+// Bumps (the chapter's "bump" model of its ball scene, Fig. 4.15(c)): 8 x 8 round bumps, one per
+// lattice cell, each a hemisphere of radius 0.3-0.45 cells flattened to 0.6 of its height, its
+// centre moved up to 0.05 cells along each axis from the cell's (by the seed), so that every bump
+// stays inside its cell and the map tiles.
 HeightField bumpsHeightMap(int cells, std::uint64_t seed);
 
 // "woven" (a 4-harness twill, 16 yarns), "noise", "relief" or "bumps"; throws std::invalid_argument otherwise.

@@ -5,6 +5,9 @@
 // with probability equal to the linear interpolation weight (in log factor). Over many paths this
 // is the chapter's linear interpolation of the two levels' path contributions, at the cost of one
 // path instead of two. The whole path sees that one level (render/surface_scene.h, DetailLevels).
+// Levels are matched by index: in a scene of several mipmaps, level k is each one's k-th (or its
+// last). Queries outside the path tracer (the visible points of render/visible_points.h, pass 1 of
+// translucent objects) see level 0.
 
 #include "libvdbappear/render/ray.h"
 

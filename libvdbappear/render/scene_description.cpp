@@ -450,8 +450,9 @@ DetailLevels mipmapLevel(std::size_t j, std::size_t n) {
   return {int(j), j + 1 == n ? DetailLevels::kLastLevel : int(j)};
 }
 
-// The levels of a mipmap must prefilter one original, finest first. Returns the original's cells
-// across.
+// The levels of a mipmap must prefilter one original, finest first: the same cells, size, height
+// scale, base BRDF and scaling (the manifests' "source" is not compared: maps move). Returns the
+// original's cells across.
 int checkMipmapLevels(const HeightFieldDescription& field, const std::vector<PrefilteredSurfaceFile>& levels) {
   const PrefilteredSurfaceFile& first = levels.front();
   const int fine_cells = first.surface.height.cellsX() * first.info.factor;
@@ -464,7 +465,10 @@ int checkMipmapLevels(const HeightFieldDescription& field, const std::vector<Pre
     if (j > 0 && !(level.info.factor > levels[j - 1].info.factor))
       throw std::runtime_error(field.mipmap[j] + ": factor " + std::to_string(level.info.factor) +
                                " after factor " + std::to_string(levels[j - 1].info.factor) + ": list the levels finest first");
-    if (level.surface.height.cellsX() * level.info.factor != fine_cells) mismatch("the original's cell count");
+    if (level.surface.height.cellsX() * level.info.factor != fine_cells ||
+        level.surface.height.cellsY() * level.info.factor != first.surface.height.cellsY() * first.info.factor)
+      mismatch("the original's cell count");
+    if (level.info.scaling != first.info.scaling) mismatch("the scaling (shadowing or interreflection)");
     if (level.info.size != first.info.size) mismatch("size");
     if (level.info.height_scale != first.info.height_scale) mismatch("height_scale");
     if (brdfToJson(level.base) != brdfToJson(first.base)) mismatch("the base BRDF");

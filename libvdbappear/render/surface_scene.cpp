@@ -40,9 +40,13 @@ struct SurfaceScene::Impl {
   std::vector<GeometryInfo> geometries;    // indexed by geometry id
   bool committed = false;
 
-  RTCScene sceneOf(int level) const { return scenes[std::size_t(std::clamp(level, 0, int(scenes.size()) - 1))]; }
+  RTCScene sceneOf(int level) const {
+    if (!committed) throw std::logic_error("SurfaceScene: queried before commit");
+    return scenes[std::size_t(std::clamp(level, 0, int(scenes.size()) - 1))];
+  }
 
   void add(const std::vector<Triangle>& triangles, GeometryInfo info, DetailLevels detail = {}) {
+    if (committed) throw std::logic_error("SurfaceScene: a surface added after commit");
     if (!(detail.first >= 0 && detail.first <= detail.last)) throw std::invalid_argument("SurfaceScene: bad detail levels");
     if (triangles.empty()) return;
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -65,6 +69,7 @@ struct SurfaceScene::Impl {
   }
 
   void commit() {
+    if (committed) throw std::logic_error("SurfaceScene: committed twice");
     int count = 1;
     for (const DetailLevels& l : levels) count = std::max(count, l.first + 1);
     for (int level = 0; level < count; ++level) {

@@ -44,7 +44,7 @@ class SurfaceScene {
   void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels = {});
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
-  void commit();  // after the last add, before any query
+  void commit();  // once, after the last add and before any query (std::logic_error otherwise)
   bool empty() const;
   int levelCount() const;  // 1 + the highest first level added (1 without mipmaps); after commit
 

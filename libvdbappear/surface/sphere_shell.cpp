@@ -3,6 +3,7 @@
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/surface/height_field_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vdbappear {

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace vdbappear {
 namespace {
@@ -111,6 +112,15 @@ TEST(SurfaceScene, EachLevelSeesItsOwnSurfaces) {
   EXPECT_TRUE(scene.occluded(Vec3(0, 0, 0.5), up, 0, 2, 1));
   EXPECT_TRUE(scene.occluded(Vec3(0, 0, -0.5), down, 0, 2, 0));
   EXPECT_FALSE(scene.occluded(Vec3(0, 0, -0.5), Vec3(1, 0, 0), 0, 2, 0));
+}
+
+TEST(SurfaceScene, CommitsOnceBetweenAddsAndQueries) {
+  SurfaceScene scene;
+  scene.addDiffuse(square(0), Rgb::Constant(0.5));
+  EXPECT_THROW(scene.intersect(Vec3(0, 0, 1), Vec3(0, 0, -1), 0, 10), std::logic_error);
+  scene.commit();
+  EXPECT_THROW(scene.addDiffuse(square(1), Rgb::Constant(0.5)), std::logic_error);
+  EXPECT_THROW(scene.commit(), std::logic_error);
 }
 
 TEST(SurfaceScene, WithoutMipmapsOneLevelServesAll) {
