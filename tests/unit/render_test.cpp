@@ -736,16 +736,22 @@ TEST(Surfaces, MipmapOfUnlikeLevelsIsRefused) {
   EXPECT_NE(refusal({"a.json"}, "small.exr").find("small.exr: 8 cells across, the mipmap's levels prefilter 16"), std::string::npos);
 }
 
+// A scene file of one height field read from /data: its error message, or "accepted" when
+// `accepted` (checks of what was read) returns.
+std::string heightFieldRefusal(const json& field, const std::function<void(const HeightFieldDescription&)>& accepted) {
+  SceneDescription d;
+  try {
+    applySceneJson(json{{"height_fields", json::array({field})}}, "/data", "scene.json", &d);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  accepted(d.height_fields.at(0));
+  return "accepted";
+}
+
 TEST(SceneFile, MipmapKeys) {
   const auto refusal = [](const json& field) {
-    SceneDescription d;
-    try {
-      applySceneJson(json{{"height_fields", json::array({field})}}, "/data", "scene.json", &d);
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    EXPECT_EQ(d.height_fields.at(0).mipmap.at(0), "/data/a.json");
-    return std::string("accepted");
+    return heightFieldRefusal(field, [](const HeightFieldDescription& h) { EXPECT_EQ(h.mipmap.at(0), "/data/a.json"); });
   };
   EXPECT_EQ(refusal({{"mipmap", {"a.json", "b.json"}}, {"file", "a.exr"}, {"scaling", false}, {"tiles", {2, 2}}}), "accepted");
   EXPECT_NE(refusal({{"mipmap", json::array()}}).find("height_fields[0].mipmap"), std::string::npos);
@@ -757,14 +763,7 @@ TEST(SceneFile, MipmapKeys) {
 
 TEST(SceneFile, SphereKeys) {
   const auto refusal = [](const json& field) {
-    SceneDescription d;
-    try {
-      applySceneJson(json{{"height_fields", json::array({field})}}, "/data", "scene.json", &d);
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    EXPECT_EQ(*d.height_fields.at(0).sphere_centre, Vec3(1, 2, 3));
-    return std::string("accepted");
+    return heightFieldRefusal(field, [](const HeightFieldDescription& h) { EXPECT_EQ(*h.sphere_centre, Vec3(1, 2, 3)); });
   };
   EXPECT_EQ(refusal({{"file", "a.exr"}, {"sphere", {1, 2, 3}}, {"tiles", {8, 4}}}), "accepted");
   EXPECT_EQ(refusal({{"prefiltered", "a.json"}, {"sphere", {1, 2, 3}}}), "accepted");
