@@ -1,6 +1,7 @@
 // Shell mapping over a sphere (surface/sphere_shell.h): the tangent frame, the inverse mapping, and
 // the mesh of a flat map, which is the sphere.
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/render/render_scene.h"
 #include "libvdbappear/surface/sphere_shell.h"
 
 #include "support/test_random.h"
@@ -32,6 +33,33 @@ TEST(SphereShell, FrameIsRightHandedAndTangent) {
     const Point2 uv = shell.tileCoordinates(shell.point(u, v, 0.3 * random.uniform() - 0.1));
     EXPECT_NEAR(uv.x(), u, 1e-9);
     EXPECT_NEAR(uv.y(), v, 1e-9);
+  }
+}
+
+// The renderer's placement agrees with itself: a step along the base frame's x (y) at a point moves
+// its map position along x (y) alone, on the sphere as on the plane, so f_low's directions and the
+// texture lookups use the same axes (a swapped or mirrored frame fails this).
+TEST(SphereShell, PlacementFrameFollowsTheMapPosition) {
+  PrefilteredPlacement plane;
+  plane.origin = Vec3(0.3, -0.2, 0.5);
+  plane.size = 0.7;
+  PrefilteredPlacement sphere = plane;
+  sphere.shell = SphereShell::ofTiles(Vec3(1, 0, -1), 0.7, 8, 4);
+  test::TestRandom random(9);
+  for (const PrefilteredPlacement& placement : {plane, sphere}) {
+    for (int k = 0; k < 50; ++k) {
+      const Vec3 p = placement.shell ? placement.shell->point(8 * random.uniform(), 0.3 + 3.4 * random.uniform(), 0.01)
+                                     : Vec3(random.uniform(), random.uniform(), 0.5);
+      const Frame f = placement.baseFrame(p);
+      const double h = 1e-6;
+      const Point2 at = placement.mapPosition(p), along_x = placement.mapPosition(p + h * f.s),
+                   along_y = placement.mapPosition(p + h * f.t);
+      if (along_x.x() < at.x() - 0.5 || along_y.y() < at.y() - 0.5) continue;  // stepped across a tile's edge
+      EXPECT_GT(along_x.x() - at.x(), 0.5 * h / placement.size) << k;
+      EXPECT_NEAR(along_x.y(), at.y(), 1e-3 * h / placement.size) << k;
+      EXPECT_GT(along_y.y() - at.y(), 0.5 * h / placement.size) << k;
+      EXPECT_NEAR(along_y.x(), at.x(), 1e-3 * h / placement.size) << k;
+    }
   }
 }
 
