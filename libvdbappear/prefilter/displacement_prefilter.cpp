@@ -82,9 +82,10 @@ class ScalingEstimator {
     PatchScattering s;
     s.eval = [cell](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) { return cell(x).eval(wi, wo); };
     s.sample = [cell](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
-      BrdfSample sample = cell(x).sample(wo, u_lobe, u);
+      const MultiLobeBrdf& f = cell(x);
+      BrdfSample sample = f.sample(wo, u_lobe, u);
       const double cos_n = x.normal.dot(sample.wi);
-      if (sample.pdf > 0) sample.weight = cos_n > 0 ? Rgb(cell(x).eval(sample.wi, wo) * (cos_n / sample.pdf)) : Rgb(Rgb::Zero());
+      if (sample.pdf > 0) sample.weight = cos_n > 0 ? Rgb(f.eval(sample.wi, wo) * (cos_n / sample.pdf)) : Rgb(Rgb::Zero());
       return sample;
     };
     return s;

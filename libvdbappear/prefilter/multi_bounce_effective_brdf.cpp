@@ -35,9 +35,8 @@ Rgb pathReflectance(const MicroGeometry& geometry, MicroGeometry::Point x, const
 
 PatchScattering microfacetScattering(const MicrofacetBrdf& f) {
   PatchScattering s;
-  s.eval = [f](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) {
-    const Frame frame = Frame::fromNormal(x.normal);
-    return f.eval(frame.toLocal(wo), frame.toLocal(wi));
+  s.eval = [patch = microfacetPatchBrdf(f)](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) {
+    return patch(x.x, x.normal, wi, wo);
   };
   s.sample = [f](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
     const Frame frame = Frame::fromNormal(x.normal);

@@ -28,16 +28,17 @@ struct PrefilteredPlacement {
   Vec3 origin = Vec3::Zero();  // vertex (0, 0) of the first tile at height 0
   double size = 1;             // of one tile along x and y
   std::optional<SphereShell> shell;  // instead of the plane through origin
-  // The base position in [0,1)^2 of the tile under world point p.
-  Point2 mapPosition(const Vec3& p) const {
+  // Where world point p lies on the map: the base position in [0,1)^2 of the tile under it, and the
+  // map's base frame (x, y, height) in world directions there (the world's axes on the plane).
+  struct MapPoint {
+    Point2 position;
+    Frame frame;
+  };
+  MapPoint mapPoint(const Vec3& p) const {
     const Point2 uv = shell ? shell->tileCoordinates(p) : Point2((p.x() - origin.x()) / size, (p.y() - origin.y()) / size);
-    return {uv.x() - std::floor(uv.x()), uv.y() - std::floor(uv.y())};
-  }
-  // The map's base frame (x, y, height) in world directions at p: the world's axes on the plane.
-  Frame baseFrame(const Vec3& p) const {
-    if (!shell) return {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
-    const Point2 uv = shell->tileCoordinates(p);
-    return shell->frame(uv.x(), uv.y());
+    const Point2 position(uv.x() - std::floor(uv.x()), uv.y() - std::floor(uv.y()));
+    if (!shell) return {position, {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}};
+    return {position, shell->frame(uv.x(), uv.y())};
   }
 };
 

@@ -166,23 +166,19 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
       if (!h["file"].is_string()) fail(source, where + ".file", "expected the path of the original map");
       field.file = resolve(folder, h["file"].get<std::string>());
     }
-    if (h.contains("scaling")) {
-      if (!h["scaling"].is_boolean()) fail(source, where + ".scaling", "expected true or false");
-      field.scaling = h["scaling"].get<bool>();
-    }
   } else if (h.contains("prefiltered")) {
     if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
     for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
       if (h.contains(key)) fail(source, where + "." + key, "not with \"prefiltered\" (the manifest gives it)");
     field.prefiltered = resolve(folder, h["prefiltered"].get<std::string>());
-    if (h.contains("scaling")) {
-      if (!h["scaling"].is_boolean()) fail(source, where + ".scaling", "expected true or false");
-      field.scaling = h["scaling"].get<bool>();
-    }
   } else {
     if (h.contains("scaling")) fail(source, where + ".scaling", "only with \"prefiltered\" or \"mipmap\"");
     if (!h.contains("file") || !h["file"].is_string()) fail(source, where, "a height field needs a \"file\" or \"prefiltered\"");
     field.file = resolve(folder, h["file"].get<std::string>());
+  }
+  if (h.contains("scaling")) {
+    if (!h["scaling"].is_boolean()) fail(source, where + ".scaling", "expected true or false");
+    field.scaling = h["scaling"].get<bool>();
   }
   if (h.contains("size")) field.size = numberOf<double>(h["size"], source, where + ".size");
   if (!(field.size > 0) || !std::isfinite(field.size)) fail(source, where + ".size", "must be positive");
@@ -415,6 +411,11 @@ HeightField readHeightField(const HeightFieldDescription& field, const ImageRead
   return heightFieldFromImage(image, field.size / std::max(1, image.width - 1), field.file);
 }
 
+void extendBounds(const std::vector<Triangle>& triangles, Aabb* bounds) {
+  for (const Triangle& t : triangles)
+    for (const Vec3& v : t) bounds->extend(v);
+}
+
 std::optional<SphereShell> shellOf(const HeightFieldDescription& field, double size) {
   if (!field.sphere_centre) return std::nullopt;
   return SphereShell::ofTiles(*field.sphere_centre, size, field.placement.tiles_x, field.placement.tiles_y);
@@ -426,22 +427,25 @@ std::vector<Triangle> placedTriangles(const HeightField& height, const HeightFie
   return shell ? shellTriangles(height, *shell, field.placement.height_scale) : heightFieldTriangles(height, field.placement);
 }
 
-// h_low of a prefiltered map, tessellated as a height field (its heights are world units), and its
-// SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
-void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
-  if (!read) throw std::runtime_error(field.prefiltered + ": no reader for prefiltered displacement maps");
-  PrefilteredSurfaceFile file = read(field.prefiltered);
+// h_low of a prefiltered map, tessellated as a height field on the field's plane or sphere (its
+// heights are world units), and its SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
+void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription& field, DetailLevels levels,
+                      RenderScene* scene, Aabb* bounds) {
   if (!field.scaling) file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};  // f'_low alone
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
   const std::optional<SphereShell> shell = shellOf(field, file.info.size);
   const std::vector<Triangle> triangles = shell ? shellTriangles(file.surface.height, *shell, 1)
                                                 : heightFieldTriangles(file.surface.height, placement);
-  for (const Triangle& t : triangles)
-    for (const Vec3& v : t) bounds->extend(v);
+  extendBounds(triangles, bounds);
   scene->prefiltered.push_back(
       {std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size, shell});
-  scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1));
+  scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1), levels);
+}
+
+void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
+  if (!read) throw std::runtime_error(field.prefiltered + ": no reader for prefiltered displacement maps");
+  placePrefiltered(read(field.prefiltered), field, {}, scene, bounds);
 }
 
 // The levels of a mipmap in one scene: level j of n sees paths of level j, its last also those of
@@ -485,7 +489,7 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   for (const std::string& manifest : field.mipmap) levels.push_back(read(manifest));
   const int fine_cells = checkMipmapLevels(field, levels);
   const PrefilteredSurfaceFile& first = levels.front();
-  HeightFieldPlacement placement = field.placement;
+  const HeightFieldPlacement& placement = field.placement;
   MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
                             first.info.size / fine_cells, {}};
   const std::size_t n = levels.size() + (field.file.empty() ? 0 : 1);
@@ -493,28 +497,20 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   if (!field.file.empty()) {
     HeightFieldDescription original = field;
     original.size = first.info.size;
+    original.placement.height_scale = first.info.height_scale;
     const HeightField height = readHeightField(original, read_image);
     if (height.cellsX() != fine_cells)
       throw std::runtime_error(field.file + ": " + std::to_string(height.cellsX()) + " cells across, the mipmap's levels prefilter " +
                                std::to_string(fine_cells));
-    placement.height_scale = first.info.height_scale;
-    const std::vector<Triangle> triangles = heightFieldTriangles(height, placement);
-    for (const Triangle& t : triangles)
-      for (const Vec3& v : t) bounds->extend(v);
+    const std::vector<Triangle> triangles = placedTriangles(height, original);
+    extendBounds(triangles, bounds);
     scene->brdfs.push_back(first.base);
     scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n));
     footprint.factors.push_back(1);
   }
-  placement.height_scale = 1;
   for (PrefilteredSurfaceFile& level : levels) {
-    if (!field.scaling) level.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};
-    const std::vector<Triangle> triangles = heightFieldTriangles(level.surface.height, placement);
-    for (const Triangle& t : triangles)
-      for (const Vec3& v : t) bounds->extend(v);
-    scene->prefiltered.push_back(
-        {std::make_shared<PrefilteredBrdf>(level.surface, level.base), placement.origin, level.info.size, std::nullopt});
-    scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1), mipmapLevel(j++, n));
     footprint.factors.push_back(level.info.factor);
+    placePrefiltered(std::move(level), field, mipmapLevel(j++, n), scene, bounds);
   }
   scene->mipmaps.push_back(std::move(footprint));
 }
@@ -560,14 +556,12 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       throw std::runtime_error(fmt::format("lights[{}]: {}", i, e.what()));
     }
     if (!triangles.empty()) scene.surfaces->addLight(triangles, int(i));
-    for (const Triangle& t : triangles)
-      for (const Vec3& v : t) everything.extend(v);
+    extendBounds(triangles, &everything);
   }
   std::vector<std::pair<const MeshDescription*, std::vector<Triangle>>> translucent;
   for (const MeshDescription& mesh : description.meshes) {
     std::vector<Triangle> triangles = readMesh(mesh.file);
-    for (const Triangle& t : triangles)
-      for (const Vec3& v : t) everything.extend(v);
+    extendBounds(triangles, &everything);
     if (!mesh.translucent) {
       addOpaque(triangles, mesh.albedo, mesh.brdf, &scene);
       continue;
@@ -586,8 +580,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       continue;
     }
     const std::vector<Triangle> triangles = placedTriangles(readHeightField(field, read_image), field);
-    for (const Triangle& t : triangles)
-      for (const Vec3& v : t) everything.extend(v);
+    extendBounds(triangles, &everything);
     addOpaque(triangles, field.albedo, field.brdf, &scene);
   }
   if (description.ground) {

@@ -261,8 +261,9 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       if (hit->prefiltered >= 0) {
         const PrefilteredPlacement& placement = scene_.prefiltered[std::size_t(hit->prefiltered)];
         vertex.prefiltered = placement.brdf.get();
-        vertex.map_x = placement.mapPosition(vertex.p);
-        vertex.map_frame = placement.baseFrame(vertex.p);
+        const PrefilteredPlacement::MapPoint at = placement.mapPoint(vertex.p);
+        vertex.map_x = at.position;
+        vertex.map_frame = at.frame;
       }
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);

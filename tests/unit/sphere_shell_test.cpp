@@ -50,10 +50,10 @@ TEST(SphereShell, PlacementFrameFollowsTheMapPosition) {
     for (int k = 0; k < 50; ++k) {
       const Vec3 p = placement.shell ? placement.shell->point(8 * random.uniform(), 0.3 + 3.4 * random.uniform(), 0.01)
                                      : Vec3(random.uniform(), random.uniform(), 0.5);
-      const Frame f = placement.baseFrame(p);
+      const Frame f = placement.mapPoint(p).frame;
       const double h = 1e-6;
-      const Point2 at = placement.mapPosition(p), along_x = placement.mapPosition(p + h * f.s),
-                   along_y = placement.mapPosition(p + h * f.t);
+      const Point2 at = placement.mapPoint(p).position, along_x = placement.mapPoint(p + h * f.s).position,
+                   along_y = placement.mapPoint(p + h * f.t).position;
       if (along_x.x() < at.x() - 0.5 || along_y.y() < at.y() - 0.5) continue;  // stepped across a tile's edge
       EXPECT_GT(along_x.x() - at.x(), 0.5 * h / placement.size) << k;
       EXPECT_NEAR(along_x.y(), at.y(), 1e-3 * h / placement.size) << k;
