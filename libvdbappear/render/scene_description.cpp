@@ -399,10 +399,10 @@ std::vector<Triangle> groundPlane(double height, const Aabb& around) {
 
 // A diffuse surface, or a glossy one with its BRDF appended to the scene's.
 void addOpaque(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::optional<MicrofacetBrdf>& brdf,
-               RenderScene* scene) {
-  if (!brdf) return scene->surfaces->addDiffuse(triangles, albedo);
+               RenderScene* scene, const std::vector<Vec3>& copies = {}) {
+  if (!brdf) return scene->surfaces->addDiffuse(triangles, albedo, copies);
   scene->brdfs.push_back(*brdf);
-  scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1));
+  scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1), {}, copies);
 }
 
 HeightField readHeightField(const HeightFieldDescription& field, const ImageReader& read_image) {
@@ -421,10 +421,37 @@ std::optional<SphereShell> shellOf(const HeightFieldDescription& field, double s
   return SphereShell::ofTiles(*field.sphere_centre, size, field.placement.tiles_x, field.placement.tiles_y);
 }
 
-// A height field's triangles on its plane or its sphere.
-std::vector<Triangle> placedTriangles(const HeightField& height, const HeightFieldDescription& field) {
-  const std::optional<SphereShell> shell = shellOf(field, field.size);
-  return shell ? shellTriangles(height, *shell, field.placement.height_scale) : heightFieldTriangles(height, field.placement);
+// A height field's triangles: on a sphere all of them; on a plane its first tile, and the other
+// tiles as copies of it (SurfaceScene instances: one tile's triangles in memory).
+struct PlacedMesh {
+  std::vector<Triangle> triangles;
+  std::vector<Vec3> copies;  // empty: the triangles alone
+};
+
+PlacedMesh placedMesh(const HeightField& height, const std::optional<SphereShell>& shell, HeightFieldPlacement placement) {
+  if (shell) return {shellTriangles(height, *shell, placement.height_scale), {}};
+  PlacedMesh mesh;
+  if (placement.tiles_x * placement.tiles_y > 1)
+    for (int b = 0; b < placement.tiles_y; ++b)
+      for (int a = 0; a < placement.tiles_x; ++a)
+        mesh.copies.push_back(Vec3(a * height.cellsX(), b * height.cellsY(), 0) * height.cellSize());
+  placement.tiles_x = placement.tiles_y = 1;
+  mesh.triangles = heightFieldTriangles(height, placement);
+  return mesh;
+}
+
+PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field) {
+  return placedMesh(height, shellOf(field, field.size), field.placement);
+}
+
+void extendBounds(const PlacedMesh& mesh, Aabb* bounds) {
+  Aabb tile;
+  extendBounds(mesh.triangles, &tile);
+  if (mesh.copies.empty() || tile.empty()) return extendBounds(mesh.triangles, bounds);
+  for (const Vec3& offset : mesh.copies) {
+    bounds->extend(tile.lo + offset);
+    bounds->extend(tile.hi + offset);
+  }
 }
 
 // h_low of a prefiltered map, tessellated as a height field on the field's plane or sphere (its
@@ -435,12 +462,11 @@ void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription&
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
   const std::optional<SphereShell> shell = shellOf(field, file.info.size);
-  const std::vector<Triangle> triangles = shell ? shellTriangles(file.surface.height, *shell, 1)
-                                                : heightFieldTriangles(file.surface.height, placement);
-  extendBounds(triangles, bounds);
+  const PlacedMesh mesh = placedMesh(file.surface.height, shell, placement);
+  extendBounds(mesh, bounds);
   scene->prefiltered.push_back(
       {std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size, shell});
-  scene->surfaces->addPrefiltered(triangles, int(scene->prefiltered.size() - 1), levels);
+  scene->surfaces->addPrefiltered(mesh.triangles, int(scene->prefiltered.size() - 1), levels, mesh.copies);
 }
 
 void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
@@ -502,10 +528,10 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     if (height.cellsX() != fine_cells)
       throw std::runtime_error(field.file + ": " + std::to_string(height.cellsX()) + " cells across, the mipmap's levels prefilter " +
                                std::to_string(fine_cells));
-    const std::vector<Triangle> triangles = placedTriangles(height, original);
-    extendBounds(triangles, bounds);
+    const PlacedMesh mesh = placedMesh(height, original);
+    extendBounds(mesh, bounds);
     scene->brdfs.push_back(first.base);
-    scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n));
+    scene->surfaces->addGlossy(mesh.triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n), mesh.copies);
     footprint.factors.push_back(1);
   }
   for (PrefilteredSurfaceFile& level : levels) {
@@ -579,9 +605,9 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       addPrefiltered(field, read_prefiltered, &scene, &everything);
       continue;
     }
-    const std::vector<Triangle> triangles = placedTriangles(readHeightField(field, read_image), field);
-    extendBounds(triangles, &everything);
-    addOpaque(triangles, field.albedo, field.brdf, &scene);
+    const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field);
+    extendBounds(mesh, &everything);
+    addOpaque(mesh.triangles, field.albedo, field.brdf, &scene, mesh.copies);
   }
   if (description.ground) {
     const double height = description.ground->height.value_or(bounds.empty() ? 0.0 : bounds.lo.z());

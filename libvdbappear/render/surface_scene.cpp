@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -20,7 +21,7 @@ struct GeometryInfo {
   int translucent = -1;
   int brdf = -1;
   int prefiltered = -1;
-  std::vector<Vec3> normals;  // per triangle
+  std::shared_ptr<const std::vector<Vec3>> normals;  // per triangle; shared by the copies of a mesh
 };
 
 void throwOnEmbreeError(RTCDevice device, const char* what) {
@@ -31,10 +32,12 @@ void throwOnEmbreeError(RTCDevice device, const char* what) {
 }  // namespace
 
 // One Embree scene per level of detail; a geometry is attached, under the same id, to the scene of
-// every level it belongs to (Embree shares it, each scene builds its own BVH over it).
+// every level it belongs to (Embree shares it, each scene builds its own BVH over it). A mesh with
+// copies is a scene of its own, and each copy an instance of it: a geometry of the level scenes.
 struct SurfaceScene::Impl {
   RTCDevice device = nullptr;
   std::vector<RTCScene> scenes;            // by level, made at commit
+  std::vector<RTCScene> instanced;         // the meshes with copies, one scene each
   std::vector<RTCGeometry> pending;        // added, attached at commit
   std::vector<DetailLevels> levels;        // of each geometry
   std::vector<GeometryInfo> geometries;    // indexed by geometry id
@@ -45,10 +48,41 @@ struct SurfaceScene::Impl {
     return scenes[std::size_t(std::clamp(level, 0, int(scenes.size()) - 1))];
   }
 
-  void add(const std::vector<Triangle>& triangles, GeometryInfo info, DetailLevels detail = {}) {
+  void add(const std::vector<Triangle>& triangles, GeometryInfo info, DetailLevels detail = {},
+           const std::vector<Vec3>& copies = {}) {
     if (committed) throw std::logic_error("SurfaceScene: a surface added after commit");
     if (!(detail.first >= 0 && detail.first <= detail.last)) throw std::invalid_argument("SurfaceScene: bad detail levels");
     if (triangles.empty()) return;
+    auto normals = std::make_shared<std::vector<Vec3>>();
+    RTCGeometry mesh = newMesh(triangles, normals.get());
+    info.normals = std::move(normals);
+    if (copies.empty()) return attach(mesh, detail, std::move(info));
+    RTCScene scene = rtcNewScene(device);
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcAttachGeometry(scene, mesh);
+    rtcReleaseGeometry(mesh);
+    rtcCommitScene(scene);
+    throwOnEmbreeError(device, "building an instanced mesh");
+    instanced.push_back(scene);
+    for (const Vec3& offset : copies) {
+      RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(instance, scene);
+      const float transform[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, float(offset.x()), float(offset.y()), float(offset.z())};
+      rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, transform);
+      rtcCommitGeometry(instance);
+      throwOnEmbreeError(device, "placing a copy of a mesh");
+      attach(instance, detail, info);
+    }
+  }
+
+  void attach(RTCGeometry geometry, DetailLevels detail, GeometryInfo info) {
+    pending.push_back(geometry);
+    levels.push_back(detail);
+    geometries.push_back(std::move(info));
+  }
+
+  // A committed triangle mesh and its unit normals.
+  RTCGeometry newMesh(const std::vector<Triangle>& triangles, std::vector<Vec3>* normals) const {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                                   3 * sizeof(float), 3 * triangles.size()));
@@ -60,12 +94,10 @@ struct SurfaceScene::Impl {
         for (int axis = 0; axis < 3; ++axis) vertices[9 * i + 3 * k + axis] = float(triangles[i][k][axis]);
         indices[3 * i + k] = unsigned(3 * i + k);
       }
-      info.normals.push_back((triangles[i][1] - triangles[i][0]).cross(triangles[i][2] - triangles[i][0]).normalized());
+      normals->push_back((triangles[i][1] - triangles[i][0]).cross(triangles[i][2] - triangles[i][0]).normalized());
     }
     rtcCommitGeometry(geometry);
-    pending.push_back(geometry);
-    levels.push_back(detail);
-    geometries.push_back(std::move(info));
+    return geometry;
   }
 
   void commit() {
@@ -94,20 +126,23 @@ SurfaceScene::SurfaceScene() : impl_(std::make_unique<Impl>()) {
 
 SurfaceScene::~SurfaceScene() {
   for (RTCScene scene : impl_->scenes) rtcReleaseScene(scene);
+  for (RTCScene scene : impl_->instanced) rtcReleaseScene(scene);
   for (RTCGeometry geometry : impl_->pending) rtcReleaseGeometry(geometry);
   rtcReleaseDevice(impl_->device);
 }
 
-void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo) {
-  impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, -1, {}});
+void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::vector<Vec3>& copies) {
+  impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, -1, {}}, {}, copies);
 }
 
-void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}}, levels);
+void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels,
+                             const std::vector<Vec3>& copies) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}}, levels, copies);
 }
 
-void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels) {
-  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}}, levels);
+void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels,
+                                  const std::vector<Vec3>& copies) {
+  impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}}, levels, copies);
 }
 
 void SurfaceScene::addLight(const std::vector<Triangle>& triangles, int light_index) {
@@ -153,8 +188,11 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->sceneOf(level), &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  const GeometryInfo& info = impl_->geometries[hit.hit.geomID];
-  return SurfaceHit{double(hit.ray.tfar), info.normals[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf, info.prefiltered};
+  // A copy's id is its instance's; its mesh is geometry 0 of the instanced scene, and a translation
+  // keeps the normals.
+  const unsigned id = hit.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? hit.hit.instID[0] : hit.hit.geomID;
+  const GeometryInfo& info = impl_->geometries[id];
+  return SurfaceHit{double(hit.ray.tfar), (*info.normals)[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf, info.prefiltered};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max, int level) const {

@@ -39,9 +39,13 @@ class SurfaceScene {
   SurfaceScene(const SurfaceScene&) = delete;
   SurfaceScene& operator=(const SurfaceScene&) = delete;
 
-  void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo);
-  void addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels = {});
-  void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels = {});
+  // `copies`: translations of the triangles, each an Embree instance of one mesh, so that a tiled
+  // height field holds one tile's triangles whatever its tile count; empty: the triangles as given.
+  void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::vector<Vec3>& copies = {});
+  void addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels = {},
+                 const std::vector<Vec3>& copies = {});
+  void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels = {},
+                      const std::vector<Vec3>& copies = {});
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // once, after the last add and before any query (std::logic_error otherwise)
