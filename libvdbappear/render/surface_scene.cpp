@@ -58,20 +58,21 @@ struct SurfaceScene::Impl {
     info.normals = std::move(normals);
     if (copies.empty()) return attach(mesh, detail, std::move(info));
     RTCScene scene = rtcNewScene(device);
+    instanced.push_back(scene);  // released with the SurfaceScene, also when a step below throws
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     rtcAttachGeometry(scene, mesh);
     rtcReleaseGeometry(mesh);
     rtcCommitScene(scene);
     throwOnEmbreeError(device, "building an instanced mesh");
-    instanced.push_back(scene);
     for (const Vec3& offset : copies) {
       RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      if (!instance) throw std::runtime_error("Embree: cannot make a copy of a mesh");
+      attach(instance, detail, info);  // released with the SurfaceScene from here on
       rtcSetGeometryInstancedScene(instance, scene);
       const float transform[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, float(offset.x()), float(offset.y()), float(offset.z())};
       rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, transform);
       rtcCommitGeometry(instance);
       throwOnEmbreeError(device, "placing a copy of a mesh");
-      attach(instance, detail, info);
     }
   }
 
