@@ -29,8 +29,8 @@ class MultiLobeBrdf {
   // Eq. (4.5), wi (toward the light) and wo (toward the viewer) in the macro-surface's frame
   // (n = +z); zero below its horizon. 1 / cos theta_i is limited to 10 (beyond 84 degrees).
   Rgb eval(const Vec3& wi, const Vec3& wo) const;
-  // wi drawn for a given wo: a lobe k with probability proportional to alpha_k <mu_k, wo>, then f_k's
-  // own sampling in mu_k's frame. weight = eval cos theta_i / pdf; zero (pdf 0) when wi falls below
+  // wi drawn for a given wo: a lobe k with probability proportional to alpha_k among those facing
+  // wo, then f_k's own sampling in mu_k's frame. weight = eval cos theta_i / pdf; zero (pdf 0) when wi falls below
   // the macro-surface or no lobe faces wo.
   BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
