@@ -24,11 +24,17 @@ Fig. 4.18) and each downsampling factor of --factors:
    R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
    the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), and
    peak memory (/usr/bin/time -v).
+5. Equal time where the chapter measures it (Table 4.5; the planar surfaces): a glossy base BRDF
+   (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 43 original cells
+   (1.3 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
+   each rendered for the time the original takes at --scale-spp, against the original at
+   --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball is left out: tiles
+   on a sphere are not instances, and enough of them for this footprint do not fit in memory.
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 512]
         [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|chapter] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 256]
+        [--ball-cells 256] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
 """
 import argparse
 import json
@@ -51,6 +57,9 @@ LIGHTING = {"direct": ([SUN], 1), "gi": ([SUN, SKY], -1)}  # lights, --max-depth
 LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
 LOD_TILES = [4, 4]
 # The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
+# Section 5: a glossy base, like the chapter's twill and silk, whose highlights alias when a pixel
+# covers many cells; seen as CAMERA sees one tile, scaled to the tiles.
+GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": [0.15, 0.1, 0.05]}
 BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
         "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
 
@@ -67,12 +76,12 @@ def tool(build, name):
     return pathlib.Path(build) / "bin" / name
 
 
-def prefilter(build, out, surface, factor, scaling, rates):
-    manifest = out / f"{surface}_{factor}x_{scaling}.json"
-    report = out / f"{surface}_{factor}x_{scaling}.report.json"
+def prefilter(build, out, surface, factor, scaling, rates, brdf=None, tag=""):
+    manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
+    report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
     if not manifest.exists():
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
-             "--scaling", scaling, "--brdf", json.dumps(BRDF), "--report", report] + RATES[rates])
+             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates])
     return manifest, json.loads(report.read_text())
 
 
@@ -185,7 +194,47 @@ def level_of_detail(args, out, surface, lod_rows):
               f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
 
 
-def write_report(args, out, rows, timing_rows, lod_rows, seconds):
+def scaled_camera(tiles):
+    return {"position": [tiles * v for v in CAMERA["position"]], "target": [tiles * v for v in CAMERA["target"]],
+            "up": CAMERA["up"], "fov": CAMERA["fov"]}
+
+
+def chapter_scale(args, out, surface, scale_rows, timing_rows):
+    """Section 5: equal time with a glossy base over many tiles seen from afar (Table 4.5's setting)."""
+    res = [int(v) for v in args.res.split("x")]
+    factors = [int(f) for f in args.factors.split(",")]
+    tiles = [args.scale_tiles, args.scale_tiles]
+    camera = scaled_camera(args.scale_tiles)
+    fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, "tiles": tiles}}
+    for factor in factors:
+        manifest, prefilter_report = prefilter(args.build, out, surface, factor, "interreflection", args.rates,
+                                               brdf=GLOSSY, tag="_glossy")
+        timing_rows.append({"surface": f"{surface} (glossy)", "factor": factor, "scaling": "interreflection",
+                            "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
+                            "ranges": prefilter_report["scaling"]})
+        fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, "tiles": tiles}
+    reference, _ = render(args.build, out, f"{surface}_scale_reference", fields["original"], "gi", res,
+                          spp=args.scale_spp_ref, seed=7, reuse=True, camera=camera)
+    for spp in [int(v) for v in args.scale_spp.split(",")]:
+        row = {"surface": surface, "spp": spp, "models": {}}
+        for model, field in fields.items():
+            name = f"{surface}_scale_{model}_{spp}"
+            timing = {"spp": spp} if model == "original" else {"seconds": row["seconds"]}
+            render(args.build, out, name, field, "gi", res, camera=camera, memory=True, **timing)
+            stats = json.loads((out / f"{name}.render.json").read_text())
+            c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
+            result = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
+                      "peak_mb": peak_memory_mb(out, name)}
+            if model == "original":
+                row["seconds"], row["original"] = stats["seconds"], result
+            else:
+                row["models"][model] = result
+        scale_rows.append(row)
+        print(f"{surface} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
+              ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
+
+
+def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
@@ -220,6 +269,24 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds):
         lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
                      f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
                      f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
+    if scale_rows:
+        models = list(scale_rows[0]["models"])
+        lines += ["", f"## Equal time at the chapter's scale (Table 4.5): a glossy base over {args.scale_tiles} x "
+                  f"{args.scale_tiles} tiles", "",
+                  f"Global illumination; base BRDF {json.dumps(GLOSSY)}; the view of sections 1-3 scaled to the tiles, "
+                  f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
+                  f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
+                  f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render.", "",
+                  "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
+                  " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
+                  " | lowest |", "|---" * (6 + len(models)) + "|"]
+    for r in scale_rows:
+        o, ms = r["original"], r["models"]
+        best = min([("original", o["rmse"])] + [(m, v["rmse"]) for m, v in ms.items()], key=lambda p: p[1])[0]
+        lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | " +
+                     " | ".join(f"{v['rmse']:.4f} ({v['spp']})" for v in ms.values()) +
+                     f" | {o['mean']:+.2%}, " + ", ".join(f"{v['mean']:+.2%}" for v in ms.values()) +
+                     f" | {o['peak_mb']:.0f}, " + ", ".join(f"{v['peak_mb']:.0f}" for v in ms.values()) + f" | {best} |")
     lines += ["", "## Precomputation and storage (Tables 4.3-4.4)", "",
               "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
               "32-bit floats.", "",
@@ -239,9 +306,17 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds):
         tag = f"{r['surface']}_lod"
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ("original", "mipmap", "models")))
+    for r in scale_rows:
+        tag = f"{r['surface']}_scale"
+        lines.append(f"- {tag}, {r['spp']} spp of the original: " +
+                     ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    (out / "report.json").write_text(json.dumps({"rows": rows, "precomputation": timing_rows, "level_of_detail": lod_rows},
-                                                indent=1))
+    (out / "report.json").write_text(json.dumps({"rows": rows, "precomputation": timing_rows, "level_of_detail": lod_rows,
+                                                 "chapter_scale": list(scale_rows)}, indent=1))
+
+
+def res_width(args):
+    return int(args.res.split("x")[0])
 
 
 def main():
@@ -259,19 +334,24 @@ def main():
     parser.add_argument("--lod-spp", default="16,64,256")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=256)
+    parser.add_argument("--scale-tiles", type=int, default=16)
+    parser.add_argument("--scale-spp", default="16,64")
+    parser.add_argument("--scale-spp-ref", type=int, default=2048)
     args = parser.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
-    rows, timing_rows, lod_rows = [], [], []
+    rows, timing_rows, lod_rows, scale_rows = [], [], [], []
     for surface in args.surfaces.split(","):
         cells = args.ball_cells if surface == "ball" else args.cells
         run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", cells, "-o", out / f"{surface}.exr"])
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
-        if surface != "ball":  # mipmaps lie on planes
+        if surface != "ball":  # mipmaps lie on planes, and tiles are instances only there
             level_of_detail(args, out, surface, lod_rows)
-    write_report(args, out, rows, timing_rows, lod_rows, time.time() - start)
+            if args.scale_tiles > 0:
+                chapter_scale(args, out, surface, scale_rows, timing_rows)
+    write_report(args, out, rows, timing_rows, lod_rows, time.time() - start, scale_rows)
     print(f"{out / 'report.md'}: {sum(r['passed'] for r in rows)} of {len(rows)} gates pass")
 
 
