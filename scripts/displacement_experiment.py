@@ -19,19 +19,20 @@ Fig. 4.18) and each downsampling factor of --factors:
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
-   so that a pixel covers from 1.7 to 43 original cells, under global illumination: the original at
+   so that a pixel covers from 1.7 to 43 original cells of a 512^2 map (twice as many at 1K^2), under
+   global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
    R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
    the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), and
    peak memory (/usr/bin/time -v).
 5. Equal time where the chapter measures it (Table 4.5; the planar surfaces): a glossy base BRDF
-   (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 43 original cells
-   (1.3 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
+   (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 85 original cells
+   of a 1K^2 map (2.7 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
    each rendered for the time the original takes at --scale-spp, against the original at
    --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball is left out: tiles
    on a sphere are not instances, and enough of them for this footprint do not fit in memory.
 Results: displacement-out/report.md and report.json, with the images.
-Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 512]
+Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|chapter] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
@@ -52,8 +53,8 @@ CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0
 SUN = {"type": "sun", "direction": [0.62, -0.38, -0.69], "strength": 3.0}
 SKY = {"type": "env", "radiance": [0.25, 0.3, 0.4]}
 LIGHTING = {"direct": ([SUN], 1), "gi": ([SUN, SKY], -1)}  # lights, --max-depth (-1: the default)
-# Over 4 x 4 tiles toward +y, low: a pixel's footprint grows from 1.7 original cells (512 per tile)
-# at the bottom row to 43 at the far edge, above which is sky.
+# Over 4 x 4 tiles toward +y, low: a pixel's footprint grows from 1.7 original cells (of a map of
+# 512 per tile) at the bottom row to 43 at the far edge, above which is sky.
 LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
 LOD_TILES = [4, 4]
 # The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
@@ -76,10 +77,36 @@ def tool(build, name):
     return pathlib.Path(build) / "bin" / name
 
 
-def prefilter(build, out, surface, factor, scaling, rates, brdf=None, tag=""):
+def rgb(value):
+    return list(value) if isinstance(value, (list, tuple)) else [value] * 3
+
+
+def same_brdf(written, brdf):
+    """The manifest's BRDF (vdb_displacement_prefilter writes colours as triples) against ours."""
+    return all(written.get(k) == brdf.get(k) for k in ("distribution", "roughness")) and \
+        all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
+
+
+def reusable(manifest, report, cells, factor, brdf, rates):
+    """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
+    if not (manifest.exists() and report.exists()):
+        return False
+    m = json.loads(manifest.read_text())
+    history = m.get("settings", {}).get("history", "")
+    return (m.get("factor") == factor and m.get("cells", [0])[0] * factor == cells and
+            same_brdf(m.get("brdf", {}), brdf) and " ".join(RATES[rates]) in history)
+
+
+def map_cells(args, surface):
+    return args.ball_cells if surface == "ball" else args.cells
+
+
+def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
+    """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report."""
     manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
     report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
-    if not manifest.exists():
+    build, rates = args.build, args.rates
+    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates])
     return manifest, json.loads(report.read_text())
@@ -94,11 +121,15 @@ def height_field(model, surface, manifest):
     return {"prefiltered": manifest.name, "scaling": model == "full", **placement}
 
 
-def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=False, camera=CAMERA,
+def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=None, camera=CAMERA,
            memory=False):
     lights, depth = LIGHTING[lighting]
-    if reuse and (out / f"{name}.exr").exists():  # the same reference for every factor
+    # The same reference for every factor: `reuse` holds the names this run has rendered (an image of
+    # an earlier run may be of another map or another size).
+    if reuse is not None and name in reuse:
         return out / f"{name}.exr", 0
+    if reuse is not None:
+        reuse.add(name)
     scene = out / f"{name}.scene.json"
     scene.write_text(json.dumps({"resolution": res, "seed": seed, "camera": camera, "lights": lights,
                                  "height_fields": [field]}, indent=1))
@@ -126,14 +157,14 @@ def study(args, out, surface, factor, rows, timing_rows):
     camera = BALL["camera"] if surface == "ball" else CAMERA
     for lighting in LIGHTING:
         scaling = "shadowing" if lighting == "direct" else "interreflection"
-        manifest, prefilter_report = prefilter(args.build, out, surface, factor, scaling, args.rates)
+        manifest, prefilter_report = prefilter(args, out, surface, factor, scaling)
         timing_rows.append({"surface": surface, "factor": factor, "scaling": scaling,
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
         tag = f"{surface}_{factor}x_{lighting}"
         reference, _ = render(args.build, out, f"{surface}_{lighting}_reference",
-                              height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref, reuse=True,
-                              camera=camera)
+                              height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref,
+                              reuse=args.rendered, camera=camera)
         row = {"surface": surface, "factor": factor, "lighting": lighting}
         for model in ("naive", "multi-lobe", "full"):
             image, _ = render(args.build, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting, res,
@@ -145,7 +176,7 @@ def study(args, out, surface, factor, rows, timing_rows):
         if lighting == "gi" and args.equal_time > 0:
             # Another seed for the reference of the noise measurement, so that noise does not cancel.
             converged, _ = render(args.build, out, f"{surface}_gi_converged", height_field("reference", surface, manifest),
-                                  lighting, res, spp=args.spp_ref, seed=7, reuse=True, camera=camera)
+                                  lighting, res, spp=args.spp_ref, seed=7, reuse=args.rendered, camera=camera)
             for model in ("reference", "full"):
                 image, _ = render(args.build, out, f"{tag}_{model}_equal_time", height_field(model, surface, manifest),
                                   lighting, res, seconds=args.equal_time, camera=camera)
@@ -173,7 +204,7 @@ def level_of_detail(args, out, surface, lod_rows):
               "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
     reference, _ = render(args.build, out, f"{surface}_lod_reference", fields["original"], "gi", res,
-                          spp=args.lod_spp_ref, seed=7, reuse=True, camera=LOD_CAMERA)
+                          spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
     for spp in [int(v) for v in args.lod_spp.split(",")]:
         row = {"surface": surface, "spp": spp}
         for model in ("original", "mipmap", "models"):
@@ -207,14 +238,14 @@ def chapter_scale(args, out, surface, scale_rows, timing_rows):
     camera = scaled_camera(args.scale_tiles)
     fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, "tiles": tiles}}
     for factor in factors:
-        manifest, prefilter_report = prefilter(args.build, out, surface, factor, "interreflection", args.rates,
-                                               brdf=GLOSSY, tag="_glossy")
+        manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
+                                               tag="_glossy")
         timing_rows.append({"surface": f"{surface} (glossy)", "factor": factor, "scaling": "interreflection",
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
         fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, "tiles": tiles}
     reference, _ = render(args.build, out, f"{surface}_scale_reference", fields["original"], "gi", res,
-                          spp=args.scale_spp_ref, seed=7, reuse=True, camera=camera)
+                          spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
     for spp in [int(v) for v in args.scale_spp.split(",")]:
         row = {"surface": surface, "spp": spp, "models": {}}
         for model, field in fields.items():
@@ -258,7 +289,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
             lines.append(f"| {r['surface']} | {r['factor']}x | {o['rmse']:.4g} ({o['spp']}) | {f['rmse']:.4g} ({f['spp']}) |"
                          f" {'full' if f['rmse'] < o['rmse'] else 'original'} |")
     lines += [] if not lod_rows else ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
-              f"Global illumination; a pixel covers 1.7 to 43 original cells; RMSE and mean relative error "
+              f"Global illumination; a pixel covers {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} original "
+              f"cells; RMSE and mean relative error "
               f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
               f"models at {args.factors}x as levels; `models`: those models alone. Peak memory of vdb_render "
               "(/usr/bin/time -v).", "",
@@ -323,7 +355,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default="build")
     parser.add_argument("--out", default="displacement-out")
-    parser.add_argument("--cells", type=int, default=512)
+    parser.add_argument("--cells", type=int, default=1024)
     parser.add_argument("--factors", default="8,32")
     parser.add_argument("--surfaces", default="woven,noise,relief,ball")
     parser.add_argument("--rates", choices=sorted(RATES), default="quick")
@@ -341,10 +373,11 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
+    args.rendered = set()
     rows, timing_rows, lod_rows, scale_rows = [], [], [], []
     for surface in args.surfaces.split(","):
-        cells = args.ball_cells if surface == "ball" else args.cells
-        run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", cells, "-o", out / f"{surface}.exr"])
+        run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", map_cells(args, surface),
+             "-o", out / f"{surface}.exr"])
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
         if surface != "ball":  # mipmaps lie on planes, and tiles are instances only there
