@@ -57,10 +57,10 @@ LIGHTING = {"direct": ([SUN], 1), "gi": ([SUN, SKY], -1)}  # lights, --max-depth
 # 512 per tile) at the bottom row to 43 at the far edge, above which is sky.
 LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
 LOD_TILES = [4, 4]
-# The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
 # Section 5: a glossy base, like the chapter's twill and silk, whose highlights alias when a pixel
 # covers many cells; seen as CAMERA sees one tile, scaled to the tiles.
 GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": [0.15, 0.1, 0.05]}
+# The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
 BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
         "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
 
