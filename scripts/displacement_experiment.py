@@ -206,23 +206,30 @@ def level_of_detail(args, out, surface, lod_rows):
     reference, _ = render(args.build, out, f"{surface}_lod_reference", fields["original"], "gi", res,
                           spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
     for spp in [int(v) for v in args.lod_spp.split(",")]:
-        row = {"surface": surface, "spp": spp}
-        for model in ("original", "mipmap", "models"):
-            name = f"{surface}_lod_{model}_{spp}"
-            if model == "original":
-                render(args.build, out, name, fields[model], "gi", res, spp=spp, camera=LOD_CAMERA, memory=True)
-            else:
-                render(args.build, out, name, fields[model], "gi", res, seconds=row["seconds"], camera=LOD_CAMERA,
-                       memory=True)
-            stats = json.loads((out / f"{name}.render.json").read_text())
-            c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
-            row[model] = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
-                          "peak_mb": peak_memory_mb(out, name)}
-            if model == "original":
-                row["seconds"] = stats["seconds"]
+        seconds, results = equal_time(args, out, f"{surface}_lod", fields, reference, spp, LOD_CAMERA)
+        row = {"surface": surface, "spp": spp, "seconds": seconds, **results}
         lod_rows.append(row)
         print(f"{surface} level of detail, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f},"
               f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
+
+
+def equal_time(args, out, tag, fields, reference, spp, camera):
+    """The first field ("original") at spp samples per pixel, every other for the time it took, under
+    global illumination: the seconds, and per field its RMSE, mean error, spp and peak memory against
+    the reference."""
+    res = [int(v) for v in args.res.split("x")]
+    seconds, results = None, {}
+    for model, field in fields.items():
+        name = f"{tag}_{model}_{spp}"
+        timing = {"spp": spp} if seconds is None else {"seconds": seconds}
+        render(args.build, out, name, field, "gi", res, camera=camera, memory=True, **timing)
+        stats = json.loads((out / f"{name}.render.json").read_text())
+        c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
+        results[model] = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
+                          "peak_mb": peak_memory_mb(out, name)}
+        if seconds is None:
+            seconds = stats["seconds"]
+    return seconds, results
 
 
 def scaled_camera(tiles):
@@ -247,19 +254,9 @@ def chapter_scale(args, out, surface, scale_rows, timing_rows):
     reference, _ = render(args.build, out, f"{surface}_scale_reference", fields["original"], "gi", res,
                           spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
     for spp in [int(v) for v in args.scale_spp.split(",")]:
-        row = {"surface": surface, "spp": spp, "models": {}}
-        for model, field in fields.items():
-            name = f"{surface}_scale_{model}_{spp}"
-            timing = {"spp": spp} if model == "original" else {"seconds": row["seconds"]}
-            render(args.build, out, name, field, "gi", res, camera=camera, memory=True, **timing)
-            stats = json.loads((out / f"{name}.render.json").read_text())
-            c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
-            result = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
-                      "peak_mb": peak_memory_mb(out, name)}
-            if model == "original":
-                row["seconds"], row["original"] = stats["seconds"], result
-            else:
-                row["models"][model] = result
+        seconds, results = equal_time(args, out, f"{surface}_scale", fields, reference, spp, camera)
+        row = {"surface": surface, "spp": spp, "seconds": seconds, "original": results.pop("original"),
+               "models": results}
         scale_rows.append(row)
         print(f"{surface} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
               ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
