@@ -11,10 +11,18 @@
 
 namespace vdbappear {
 
-double vmf(const Vec3& w, double kappa, const Vec3& mu) {
-  if (kappa < 1e-8) return 1 / (4 * kPi);
-  return kappa / (2 * kPi * -std::expm1(-2 * kappa)) * std::exp(kappa * (w.dot(mu) - 1));
+namespace {
+
+// vmf() = vmfNormalization(kappa) * vmfShape(w, kappa, mu), split so that a fit evaluating one lobe
+// at many directions computes the normalisation once.
+double vmfNormalization(double kappa) { return kappa < 1e-8 ? 1 / (4 * kPi) : kappa / (2 * kPi * -std::expm1(-2 * kappa)); }
+double vmfShape(const Vec3& w, double kappa, const Vec3& mu) {
+  return kappa < 1e-8 ? 1.0 : std::exp(kappa * (w.dot(mu) - 1));
 }
+
+}  // namespace
+
+double vmf(const Vec3& w, double kappa, const Vec3& mu) { return vmfNormalization(kappa) * vmfShape(w, kappa, mu); }
 
 Vec3 sampleVmf(double kappa, const Vec3& mu, const Point2& u) {
   const double w = kappa < 1e-8 ? 1 - 2 * u.x()
@@ -67,11 +75,13 @@ std::vector<VmfLobe> maximise(const std::vector<Vec3>& d, const std::vector<doub
 double expect(const std::vector<Vec3>& d, const std::vector<double>& w, const std::vector<VmfLobe>& lobes,
               std::vector<std::vector<double>>* responsibility) {
   responsibility->assign(lobes.size(), std::vector<double>(d.size(), 0.0));
+  std::vector<double> normalization(lobes.size());
+  for (std::size_t k = 0; k < lobes.size(); ++k) normalization[k] = vmfNormalization(lobes[k].kappa);
   double log_likelihood = 0;
   for (std::size_t n = 0; n < d.size(); ++n) {
     double sum = 0;
     for (std::size_t k = 0; k < lobes.size(); ++k) {
-      const double p = lobes[k].amplitude * vmf(d[n], lobes[k].kappa, lobes[k].mu);
+      const double p = lobes[k].amplitude * (normalization[k] * vmfShape(d[n], lobes[k].kappa, lobes[k].mu));
       (*responsibility)[k][n] = p;
       sum += p;
     }
