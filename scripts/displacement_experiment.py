@@ -33,7 +33,7 @@ Fig. 4.18) and each downsampling factor of --factors:
    on a sphere are not instances, and enough of them for this footprint do not fit in memory.
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
-        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|chapter] [--spp-ref 1024]
+        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
 """
@@ -155,7 +155,7 @@ def compare(build, reference, test, error_map=None):
 def study(args, out, surface, factor, rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
     camera = BALL["camera"] if surface == "ball" else CAMERA
-    for lighting in LIGHTING:
+    for lighting in args.lighting.split(","):
         scaling = "shadowing" if lighting == "direct" else "interreflection"
         manifest, prefilter_report = prefilter(args, out, surface, factor, scaling)
         timing_rows.append({"surface": surface, "factor": factor, "scaling": scaling,
@@ -265,6 +265,7 @@ def chapter_scale(args, out, surface, scale_rows, timing_rows):
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
+             f" --lighting {args.lighting} --surfaces {args.surfaces}"
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine.", "",
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
@@ -356,17 +357,20 @@ def main():
     parser.add_argument("--factors", default="8,32")
     parser.add_argument("--surfaces", default="woven,noise,relief,ball")
     parser.add_argument("--rates", choices=sorted(RATES), default="quick")
+    parser.add_argument("--lighting", default="direct,gi", help="of sections 1-3: direct (R) and/or gi (R_ir)")
     parser.add_argument("--spp-ref", type=int, default=1024)
     parser.add_argument("--spp", type=int, default=128)
     parser.add_argument("--equal-time", type=float, default=10)
     parser.add_argument("--res", default="192x144")
-    parser.add_argument("--lod-spp", default="16,64,256")
+    parser.add_argument("--lod-spp", default="16,64,256", help="section 4's budgets; empty: no section 4")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=256)
-    parser.add_argument("--scale-tiles", type=int, default=16)
+    parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
     parser.add_argument("--scale-spp-ref", type=int, default=2048)
     args = parser.parse_args()
+    if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
+        parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
@@ -378,7 +382,8 @@ def main():
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
         if surface != "ball":  # mipmaps lie on planes, and tiles are instances only there
-            level_of_detail(args, out, surface, lod_rows)
+            if args.lod_spp:
+                level_of_detail(args, out, surface, lod_rows)
             if args.scale_tiles > 0:
                 chapter_scale(args, out, surface, scale_rows, timing_rows)
     write_report(args, out, rows, timing_rows, lod_rows, time.time() - start, scale_rows)
