@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
       ->default_str("interreflection");
   app.add_option("--lobes", s.ndf.lobes, "vMF lobes per coarse cell")->check(CLI::Range(1, 16))->capture_default_str();
   app.add_option("--smoothness", s.smoothness_weight, "w of Eq. 4.10")->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--paths", o.paths, "paths (base positions) per effective-BRDF estimate; rounded to a square")
+  app.add_option("--paths", o.paths, "paths (base positions in one coarse cell) per effective-BRDF estimate; rounded to a square")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   app.add_option("--spatial-resolution", s.factorization.spatial_resolution, "M: T has M x M bins")
@@ -184,8 +184,10 @@ int main(int argc, char** argv) {
   app.add_option("--pairs", s.factorization.pairs_per_spatial_bin, "direction pairs per T bin")
       ->check(CLI::Range(1, 10000000))
       ->capture_default_str();
-  app.add_option("--positions", s.factorization.positions_per_angular_bin, "stratified positions per S bin")
-      ->check(CLI::Range(1, 4096))
+  app.add_option("--positions", s.factorization.positions_per_angular_bin,
+                 "stratified positions (coarse cells) per S bin, each with --paths paths; S's bins are ratios "
+                 "over them, which few bias bright (docs/displacement.md §9)")
+      ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   app.add_option("--max-theta", s.factorization.max_theta_degrees,
                  "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
