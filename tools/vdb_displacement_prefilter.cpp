@@ -106,6 +106,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"smoothness_weight", settings.smoothness_weight},
       {"pairs_per_spatial_bin", f.pairs_per_spatial_bin},
       {"positions_per_angular_bin", f.positions_per_angular_bin},
+      {"bias_correction", f.jackknife ? "jackknife" : "none"},
       {"max_theta_degrees", f.max_theta_degrees},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
@@ -189,6 +190,12 @@ int main(int argc, char** argv) {
                  "over them, which few bias bright (docs/displacement.md §9)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
+  const std::map<std::string, bool> corrections{{"jackknife", true}, {"none", false}};
+  app.add_option("--bias-correction", s.factorization.jackknife,
+                 "of S's bins, ratios over --positions: none, or jackknife (removes their O(1/n) bias, "
+                 "docs/displacement.md §9)")
+      ->transform(CLI::CheckedTransformer(corrections, CLI::ignore_case))
+      ->default_str("none");
   app.add_option("--max-theta", s.factorization.max_theta_degrees,
                  "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
       ->check(CLI::Range(1.0, 89.0))

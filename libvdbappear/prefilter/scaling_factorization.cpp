@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace vdbappear {
 namespace {
@@ -44,20 +45,41 @@ Rgb spatialBin(const ScalingSampler& R, int a, int b, int cells_x, int cells_y, 
   return ratio(sum, s.epsilon);
 }
 
+// The ratio of sums with its first-order bias removed (Quenouille's jackknife): a ratio over n
+// samples is biased by O(1/n), and n R - (n - 1) mean_i R_-i, with R_-i the ratio without sample i,
+// cancels that term. Where it is not a finite non-negative number (one sample holds nearly all of a
+// sum), the plain ratio.
+Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, double epsilon) {
+  ScalingSample sum;
+  for (const ScalingSample& sample : samples) add(&sum, sample);
+  const Rgb plain = ratio(sum, epsilon);
+  const double n = double(samples.size());
+  if (samples.size() < 2) return plain;
+  Rgb leave_one_out = Rgb::Zero();
+  for (const ScalingSample& sample : samples)
+    leave_one_out += ((sum.original - sample.original).max(0.0) + epsilon) /
+                     ((sum.prefiltered - sample.prefiltered).max(0.0) + epsilon);
+  const Rgb jackknifed = n * plain - (n - 1) / n * leave_one_out;
+  return (jackknifed.isFinite() && jackknifed >= 0).select(jackknifed, plain);
+}
+
 // S's bin: R at the bins' directions over positions stratified over the whole map.
 Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::size_t bin, int cells_x, int cells_y,
                const FactorizationSettings& s) {
   const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
   const int count = s.positions_per_angular_bin;
   RandomStream rng(s.seed, {1, std::int64_t(bin)});
-  ScalingSample sum;
+  std::vector<ScalingSample> samples(static_cast<std::size_t>(count));
   for (int k = 0; k < count; ++k) {
     const int stratum = k % (strata * strata);
     const Point2 u = rng.uniform2();
     const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    add(&sum, R(cu, cv, wi, wo));
+    samples[std::size_t(k)] = R(cu, cv, wi, wo);
   }
+  if (s.jackknife) return jackknifedRatio(samples, s.epsilon);
+  ScalingSample sum;
+  for (const ScalingSample& sample : samples) add(&sum, sample);
   return ratio(sum, s.epsilon);
 }
 
