@@ -33,7 +33,7 @@ Fig. 4.18) and each downsampling factor of --factors:
    on a sphere are not instances, and enough of them for this footprint do not fit in memory.
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
-        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
+        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates quick|spread|n15|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
 """
@@ -47,11 +47,17 @@ BRDF = {"distribution": "ggx", "roughness": 0.3, "specular": 0.04, "diffuse": [0
 # The chapter's sampling rates are the tool's defaults; "quick" trades them for minutes (reported),
 # and spends on positions per S bin what it saves on paths. S's bins are ratios over positions,
 # which few bias bright: on the 1K^2 relief at 8x under direct light, +20.4% at the chapter's rates,
-# +1.9% quick, -1.4% spread (S converged; docs/displacement.md §9).
+# +1.9% quick, -1.4% spread (positions converged, but N = 9 reads S 1-1.4% low between its bins),
+# +0.35% n15 (N = 15, 1024 positions; -1.1% to +2.0% over three seeds, -1.3% and -0.8% with every
+# coarse cell in each bin: one sun reads a few bins, whose noise moves the image;
+# docs/displacement.md §9).
 RATES = {"chapter": [],
          "quick": ["--paths", "64", "--angular-resolution", "9", "--pairs", "1000", "--positions", "256"],
          # The quick rates' paths per bin spread over 16 times the coarse cells (docs/displacement.md §9).
-         "spread": ["--paths", "4", "--angular-resolution", "9", "--pairs", "16000", "--positions", "4096"]}
+         "spread": ["--paths", "4", "--angular-resolution", "9", "--pairs", "16000", "--positions", "4096"],
+         # The chapter's N = 15 (at N = 9 S's reading between bin centres left the noise 1.3% too
+         # dark under the sun) with 1024 positions of 4 paths per S bin (docs/displacement.md §9).
+         "n15": ["--paths", "4", "--angular-resolution", "15", "--pairs", "16000", "--positions", "1024"]}
 CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 34}
 SUN = {"type": "sun", "direction": [0.62, -0.38, -0.69], "strength": 3.0}
 SKY = {"type": "env", "radiance": [0.25, 0.3, 0.4]}
