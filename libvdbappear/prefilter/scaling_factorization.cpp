@@ -49,12 +49,10 @@ Rgb spatialBin(const ScalingSampler& R, int a, int b, int cells_x, int cells_y, 
 // samples is biased by O(1/n), and n R - (n - 1) mean_i R_-i, with R_-i the ratio without sample i,
 // cancels that term. Where it is not a finite non-negative number (one sample holds nearly all of a
 // sum), the plain ratio.
-Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, double epsilon) {
-  ScalingSample sum;
-  for (const ScalingSample& sample : samples) add(&sum, sample);
+Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, const ScalingSample& sum, double epsilon) {
   const Rgb plain = ratio(sum, epsilon);
-  const double n = double(samples.size());
   if (samples.size() < 2) return plain;
+  const double n = double(samples.size());
   Rgb leave_one_out = Rgb::Zero();
   for (const ScalingSample& sample : samples)
     leave_one_out += ((sum.original - sample.original).max(0.0) + epsilon) /
@@ -69,18 +67,19 @@ Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::siz
   const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
   const int count = s.positions_per_angular_bin;
   RandomStream rng(s.seed, {1, std::int64_t(bin)});
-  std::vector<ScalingSample> samples(static_cast<std::size_t>(count));
+  ScalingSample sum;
+  std::vector<ScalingSample> samples;  // kept for the jackknife only
+  if (s.jackknife) samples.reserve(std::size_t(count));
   for (int k = 0; k < count; ++k) {
     const int stratum = k % (strata * strata);
     const Point2 u = rng.uniform2();
     const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    samples[std::size_t(k)] = R(cu, cv, wi, wo);
+    const ScalingSample sample = R(cu, cv, wi, wo);
+    add(&sum, sample);
+    if (s.jackknife) samples.push_back(sample);
   }
-  if (s.jackknife) return jackknifedRatio(samples, s.epsilon);
-  ScalingSample sum;
-  for (const ScalingSample& sample : samples) add(&sum, sample);
-  return ratio(sum, s.epsilon);
+  return s.jackknife ? jackknifedRatio(samples, sum, s.epsilon) : ratio(sum, s.epsilon);
 }
 
 }  // namespace
