@@ -36,3 +36,10 @@ pkg_check_modules(XXHASH REQUIRED IMPORTED_TARGET libxxhash)
 # same codecs OpenVDB uses: blosc (libblosc-dev) and zlib (zlib1g-dev).
 pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
 find_package(ZLIB REQUIRED)
+# Optional: MPI (Open MPI: libopenmpi-dev) for vdb_render and vdb_optimize_weights on several
+# processes (cluster/process_group.h, docs/scaling.md). Without it every tool is one process.
+option(VDBAPPEAR_MPI "split renders over MPI ranks when MPI is found" ON)
+if(VDBAPPEAR_MPI)
+  find_package(MPI COMPONENTS CXX)
+endif()
+set(VDBAPPEAR_WITH_MPI ${MPI_CXX_FOUND})

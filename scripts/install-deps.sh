@@ -22,6 +22,8 @@ packages=(
   libopenexr-dev libopenimageio-dev
   # surfaces in renders: ray tracing kernels and mesh files (OBJ, PLY)
   libembree-dev libassimp-dev
+  # several processes: vdb_render and vdb_optimize_weights under mpirun or srun (docs/scaling.md)
+  libopenmpi-dev openmpi-bin
   # tests
   libgtest-dev
   # sanitizer builds and libFuzzer harnesses (make test-sanitize)

@@ -1,5 +1,6 @@
 #include "tool_main.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <malloc.h>
+#include <sstream>
 
 namespace vdbappear::tool {
 
@@ -34,6 +36,30 @@ int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) 
     return body();
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}: error: {}\n", app.get_name(), errorLine(e.what()));
+    return 1;
+  }
+}
+
+int run(CLI::App& app, int argc, char** argv, const ProcessGroup& group, const std::function<int()>& body) {
+  if (!group.isShared()) return run(app, argc, argv, body);
+  tuneAllocator();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (group.isRoot()) return app.exit(e);
+    std::ostringstream quiet;
+    return app.exit(e, quiet, quiet);
+  }
+  try {
+    return body();
+  } catch (const GroupFailure& e) {
+    if (*e.what())
+      fmt::print(stderr, "{}: error (rank {} of {}): {}\n", app.get_name(), group.rank(), group.size(), errorLine(e.what()));
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}: error (rank {} of {}): {}\n", app.get_name(), group.rank(), group.size(), errorLine(e.what()));
+    std::fflush(stderr);
+    group.abortJob(1);
     return 1;
   }
 }

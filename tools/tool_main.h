@@ -10,6 +10,7 @@
 #include <string>
 
 namespace vdbappear {
+class ProcessGroup;
 struct MediumSummary;
 struct GridMapping;
 struct Medium;
@@ -21,6 +22,12 @@ namespace vdbappear::tool {
 // message and exits non-zero; any exception thrown by `body` becomes one line
 // "TOOL: error: MESSAGE" on stderr and exit status 1.
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+
+// run() for a tool whose work the ranks of `group` share (cluster/process_group.h). Only the root
+// prints help and flag errors. An error the group agreed on (GroupFailure) is printed once, by the
+// rank it happened on, and every rank exits 1; any other error on one rank of several ends the whole
+// job (ProcessGroup::abortJob), since the others would wait for it forever.
+int run(CLI::App& app, int argc, char** argv, const ProcessGroup& group, const std::function<int()>& body);
 
 // Adds -j/--threads N (0: all cores). The limit holds while the returned object lives.
 class ThreadLimit {

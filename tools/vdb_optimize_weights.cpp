@@ -3,6 +3,7 @@
 // Rendering Anisotropic Media").
 #include "tool_main.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/optimize/optimize_weights.h"
 #include "libvdbappear/version.h"
@@ -108,9 +109,34 @@ void printSummary(const WeightOptimizationResult& result) {
   }
 }
 
+// The flags' checks, and the options they set; the outputs are checked on the root only, which alone
+// writes them.
+void checkFlags(Flags& flags, bool root) {
+  WeightOptimizationOptions& o = flags.options;
+  if (root) {
+    tool::checkOutputs(o.lobes, o.output, flags.report);
+    tool::checkDistinct(o.full, o.output, flags.report);
+  }
+  for (const std::string* file : {&o.log, &o.checkpoint}) {
+    if (file->empty()) continue;
+    for (const std::string& other : {o.full, o.lobes, o.output, flags.report})
+      if (*file == other) throw std::runtime_error(fmt::format("{}: named twice among the inputs and outputs", *file));
+    if (root) checkWritable(*file);
+  }
+  if (flags.per_channel && flags.colour != "auto")
+    throw std::runtime_error("--per-channel excludes --colour (it replaces the colour scales)");
+  if (flags.per_channel) o.mode = ColourMode::kPerChannel;
+  else if (flags.colour != "auto") o.mode = parseColourMode(flags.colour);
+  if (o.optimizer.min_iterations > o.optimizer.max_iterations) o.optimizer.min_iterations = o.optimizer.max_iterations;
+  o.interpolation = parseInterpolation(flags.interp);
+  o.optimizer.step_rule = parseStepRule(flags.steps);
+  o.cache = flags.no_cache ? "" : (flags.cache.empty() ? defaultCacheFolder() : flags.cache);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const std::unique_ptr<ProcessGroup> group = joinProcessGroup(&argc, &argv);
   CLI::App app("Optimises the lobe-weight factors of a multi-lobe downsampled medium by stochastic gradient "
                "descent on path-traced gradient images (§6.3-6.4, Appendix A of the downsampling paper).",
                kTool);
@@ -121,29 +147,16 @@ int main(int argc, char** argv) {
   tool::ThreadLimit threads(app);
   flags.options.history_line = historyLine(kTool, argc, argv);
 
-  return tool::run(app, argc, argv, [&] {
+  return tool::run(app, argc, argv, *group, [&] {
     threads.apply();
     WeightOptimizationOptions& o = flags.options;
-    tool::checkOutputs(o.lobes, o.output, flags.report);
-    tool::checkDistinct(o.full, o.output, flags.report);
-    for (const std::string* file : {&o.log, &o.checkpoint}) {
-      if (file->empty()) continue;
-      for (const std::string& other : {o.full, o.lobes, o.output, flags.report})
-        if (*file == other) throw std::runtime_error(fmt::format("{}: named twice among the inputs and outputs", *file));
-      checkWritable(*file);
-    }
-    if (flags.per_channel && flags.colour != "auto")
-      throw std::runtime_error("--per-channel excludes --colour (it replaces the colour scales)");
-    if (flags.per_channel) o.mode = ColourMode::kPerChannel;
-    else if (flags.colour != "auto") o.mode = parseColourMode(flags.colour);
-    if (o.optimizer.min_iterations > o.optimizer.max_iterations) o.optimizer.min_iterations = o.optimizer.max_iterations;
-    o.interpolation = parseInterpolation(flags.interp);
-    o.optimizer.step_rule = parseStepRule(flags.steps);
-    o.cache = flags.no_cache ? "" : (flags.cache.empty() ? defaultCacheFolder() : flags.cache);
+    group->together([&] { checkFlags(flags, group->isRoot()); });
+    o.group = group.get();
     const auto note = [&](const std::string& line) {
       if (flags.verbose || line.rfind("resumed", 0) == 0) fmt::print(stderr, "{}: {}\n", kTool, line);
     };
-    WeightOptimizationResult result = optimizeWeights(o, note);
+    const WeightOptimizationResult result = optimizeWeights(o, note);
+    if (!group->isRoot()) return 0;
     if (flags.verbose) printSummary(result);
     if (!flags.report.empty()) {
       nlohmann::json report = result.record;

@@ -1,6 +1,7 @@
 // vdb_render: an unbiased volumetric path tracer for media (docs/rendering.md).
 #include "tool_main.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/sh_light_grid_file.h"
@@ -258,6 +259,13 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
                                        {"target", {camera.target.x(), camera.target.y(), camera.target.z()}},
                                        {"up", {camera.up.x(), camera.up.y(), camera.up.z()}},
                                        {"fov", camera.fov_degrees}}}};
+  if (!r.ranks.empty()) {
+    nlohmann::json ranks = nlohmann::json::array();
+    for (const RankWork& w : r.ranks)
+      ranks.push_back({{"paths", w.paths}, {"tile_seconds", w.tile_seconds}, {"claim_seconds", w.claim_seconds},
+                       {"sum_seconds", w.sum_seconds}});
+    report["ranks"] = ranks;
+  }
   if (medium) {
     const Aabb box = medium->worldBounds();
     report["bounds"] = {{box.lo.x(), box.lo.y(), box.lo.z()}, {box.hi.x(), box.hi.y(), box.hi.z()}};
@@ -284,11 +292,82 @@ nlohmann::json subsurfaceReport(const SceneDescription& scene, const SubsurfaceC
   return {{"cache_error", scene.subsurface.cache_error}, {"pass3_seconds", result.seconds}, {"objects", objects}};
 }
 
+// Everything a render needs, prepared on every rank of the group alike.
+struct RenderJob {
+  SceneDescription scene;
+  RenderOutputs outputs;
+  std::shared_ptr<const MediumView> medium;
+  CameraPose pose;
+  RenderScene render_scene;
+  SubsurfaceCaching caching;
+};
+
+RenderJob prepareJob(const CLI::App& app, const Flags& flags, const GridMapping& mapping, const ProcessGroup& group) {
+  RenderJob job;
+  job.scene = sceneOf(app, flags);
+  const SceneDescription& scene = job.scene;
+  const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
+  job.outputs = {flags.output,      flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage,
+                 scene.render.weight_gradients, asked("sss")};
+  const RenderOutputs& outputs = job.outputs;
+  checkRenderOutputs(outputs);
+  if (group.isRoot()) {  // only the root writes
+    tool::checkOutputs(scene.medium, flags.output, flags.report);
+    tool::checkDistinct(scene.medium, flags.preview, flags.output);
+    if (!flags.preview.empty()) checkWritable(flags.preview);
+  }
+  if (group.isShared() && scene.medium == "-")
+    throw std::runtime_error(fmt::format("a medium on stdin reaches one rank of {}: give a file every rank can read", group.size()));
+  if (!scene.medium.empty())
+    job.medium = std::make_shared<MediumView>(tool::readInputMedium(kTool, scene.medium, mapping), scene.interpolation, flags.no_sggx);
+  const MediumView* medium = job.medium.get();
+  // The checks that need no surfaces first: pass 1 of translucent objects runs in buildRenderScene.
+  job.pose = cameraOf(scene, medium);
+  const PinholeCamera camera(job.pose, scene.render.width, scene.render.height);
+  if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
+    throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
+  if (scene.render.weight_gradients && (!medium || medium->phaseSource() != PhaseSource::kLobes || medium->clusterCount() == 0))
+    throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
+  if (scene.render.weight_gradients && !flags.sh_lightgrid.empty())
+    throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
+  const bool translucent = std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const MeshDescription& m) { return bool(m.translucent); });
+  if (outputs.subsurface && !translucent) throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
+  if (outputs.subsurface) checkSubsurfaceChannelMemory(scene.render.width, scene.render.height);
+  job.render_scene = buildRenderScene(scene, job.medium, readRgbImage, readPrefilteredSurface);
+  if (!flags.sh_lightgrid.empty()) {
+    job.render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
+    job.render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear
+                                        : flags.sh_interp == "taylor"  ? CellInterpolation::kTaylor
+                                                                       : CellInterpolation::kHermite;
+    job.render_scene.sh_shadows = !flags.sh_unshadowed;
+  }
+  job.caching =
+      cacheTranslucentObjects(job.render_scene, camera, scene.render.width, scene.render.height, scene.subsurface, outputs.subsurface);
+  return job;
+}
+
+void writeResults(const Flags& flags, RenderJob& job, RenderResult& result) {
+  const SceneDescription& scene = job.scene;
+  result.extra_channels = std::move(job.caching.channels);
+  writeRenderOutputs(result, job.outputs);
+  nlohmann::json report = reportOf(scene, job.pose, result, job.medium.get());
+  if (!job.render_scene.translucent.empty()) report["subsurface"] = subsurfaceReport(scene, job.caching, job.render_scene, result);
+  if (job.render_scene.sh_lights)
+    report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}, {"shadows", job.render_scene.sh_shadows}};
+  if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
+  if (flags.verbose)
+    fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",
+               kTool, result.width, result.height, result.spp, result.seconds, report["paths_per_second"].get<double>(),
+               report["mean_scattering_events"].get<double>(), report["mean_pixel_value"].get<double>());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const std::unique_ptr<ProcessGroup> group = joinProcessGroup(&argc, &argv);
   CLI::App app("Renders a medium (and optional surfaces) with an unbiased volumetric path tracer: delta "
-               "tracking over a hierarchical majorant, next-event estimation with MIS.",
+               "tracking over a hierarchical majorant, next-event estimation with MIS. Under mpirun or srun, "
+               "the ranks share the image (docs/scaling.md).",
                kTool);
   app.footer(kExamples);
   app.set_version_flag("--version", kVersion);
@@ -298,55 +377,17 @@ int main(int argc, char** argv) {
   tool::addGridMapping(app, mapping);
   tool::ThreadLimit threads(app);
 
-  return tool::run(app, argc, argv, [&] {
+  return tool::run(app, argc, argv, *group, [&] {
     threads.apply();
-    SceneDescription scene = sceneOf(app, flags);
-    const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
-    const RenderOutputs outputs{flags.output,      flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage,
-                                scene.render.weight_gradients, asked("sss")};
-    checkRenderOutputs(outputs);
-    tool::checkOutputs(scene.medium, flags.output, flags.report);
-    tool::checkDistinct(scene.medium, flags.preview, flags.output);
-    if (!flags.preview.empty()) checkWritable(flags.preview);
-    std::shared_ptr<const MediumView> medium;
-    if (!scene.medium.empty()) {
-      medium = std::make_shared<MediumView>(tool::readInputMedium(kTool, scene.medium, mapping), scene.interpolation, flags.no_sggx);
-    }
-    // The checks that need no surfaces first: pass 1 of translucent objects runs in buildRenderScene.
-    const CameraPose pose = cameraOf(scene, medium.get());
-    const PinholeCamera camera(pose, scene.render.width, scene.render.height);
-    if (scene.render.cluster_coverage && (!medium || medium->clusterCount() == 0))
-      throw std::runtime_error(scene.medium + ": --aov cluster needs a medium with a 'cluster' grid");
-    if (scene.render.weight_gradients && (!medium || medium->phaseSource() != PhaseSource::kLobes || medium->clusterCount() == 0))
-      throw std::runtime_error(scene.medium + ": --aov dweights needs a multi-lobe medium with a 'cluster' grid (vdb_lobe_cluster)");
-    if (scene.render.weight_gradients && !flags.sh_lightgrid.empty())
-      throw std::runtime_error("--aov dweights cannot be rendered with --sh-lightgrid");
-    const bool translucent = std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const MeshDescription& m) { return bool(m.translucent); });
-    if (outputs.subsurface && !translucent) throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
-    if (outputs.subsurface) checkSubsurfaceChannelMemory(scene.render.width, scene.render.height);
-    RenderScene render_scene = buildRenderScene(scene, medium, readRgbImage, readPrefilteredSurface);
-    if (!flags.sh_lightgrid.empty()) {
-      render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
-      render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear
-                                      : flags.sh_interp == "taylor"  ? CellInterpolation::kTaylor
-                                                                     : CellInterpolation::kHermite;
-      render_scene.sh_shadows = !flags.sh_unshadowed;
-    }
-    SubsurfaceCaching caching =
-        cacheTranslucentObjects(render_scene, camera, scene.render.width, scene.render.height, scene.subsurface, outputs.subsurface);
-    ProgressBar progress("render", 0);
-    RenderResult result = renderImage(render_scene, camera, scene.render, &progress);
-    result.extra_channels = std::move(caching.channels);
-    writeRenderOutputs(result, outputs);
-    nlohmann::json report = reportOf(scene, pose, result, medium.get());
-    if (!render_scene.translucent.empty()) report["subsurface"] = subsurfaceReport(scene, caching, render_scene, result);
-    if (render_scene.sh_lights)
-      report["sh_lightgrid"] = {{"file", flags.sh_lightgrid}, {"interpolation", flags.sh_interp}, {"shadows", render_scene.sh_shadows}};
-    if (!flags.report.empty()) tool::writeJsonReport(flags.report, report);
-    if (flags.verbose)
-      fmt::print(stderr, "{}: {}x{} at {} spp in {:.2f} s, {:.3g} paths/s, {:.2f} scattering events per path, mean {:.4g}\n",
-                 kTool, result.width, result.height, result.spp, result.seconds, report["paths_per_second"].get<double>(),
-                 report["mean_scattering_events"].get<double>(), report["mean_pixel_value"].get<double>());
+    // Every rank reads the medium and builds the scene; a failure on any rank ends every rank here,
+    // reported once, before any rank waits for another's pixels.
+    RenderJob job;
+    group->together([&] { job = prepareJob(app, flags, mapping, *group); });
+    job.scene.render.group = group.get();
+    const PinholeCamera camera(job.pose, job.scene.render.width, job.scene.render.height);
+    ProgressBar progress("render", 0, group->isRoot() && stderrIsTerminal());
+    RenderResult result = renderImage(job.render_scene, camera, job.scene.render, &progress);
+    if (group->isRoot()) writeResults(flags, job, result);
     return 0;
   });
 }

@@ -1,5 +1,6 @@
 #include "libvdbappear/optimize/optimize_weights.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_content_hash.h"
@@ -70,13 +71,27 @@ std::string fullMediumKey(const std::string& path, const Medium& full) {
 WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& options,
                                          const std::function<void(const std::string&)>& note) {
   const Stopwatch total_clock;
-  if (options.full == "-")
-    throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
-  const MediumPtr full = readMedium(options.full, options.full_mapping);
-  for (const std::string& line : full->read_notes) note(line);
-  const MediumPtr lobes = readMedium(options.lobes);
-  const LobeMediumLayout layout = inspectLobeMedium(*lobes);
-  const int factor = downsamplingFactor(*full, *lobes);
+  const SoloProcessGroup solo;
+  const ProcessGroup& group = options.group ? *options.group : solo;
+  const bool root = group.isRoot();
+  // The inputs, read by every rank: a rank that cannot read them ends every rank here.
+  MediumPtr full, lobes;
+  LobeMediumLayout layout;
+  int factor = 0;
+  std::string full_hash;
+  group.together([&] {
+    if (options.full == "-")
+      throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
+    if (group.isShared() && options.lobes == "-")
+      throw MediumError(fmt::format("LOBES on stdin reaches one rank of {}: give a file every rank can read", group.size()));
+    full = readMedium(options.full, options.full_mapping);
+    lobes = readMedium(options.lobes);
+    layout = inspectLobeMedium(*lobes);
+    factor = downsamplingFactor(*full, *lobes);
+    full_hash = fullMediumKey(options.full, *full);
+  });
+  if (root)
+    for (const std::string& line : full->read_notes) note(line);
 
   OptimizerSettings settings = options.optimizer;
   settings.mode = options.mode.value_or(layout.coloured ? ColourMode::kColourScales : ColourMode::kGrey);
@@ -84,16 +99,16 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   const auto lobes_view = std::make_shared<MediumView>(lobes, options.interpolation);
   // Framed on the reduced medium's box, which holds the full one's (docs/medium.md §2): a training
   // ground at its bottom lies under both media.
-  TrainingScenes scenes(lobes_view, trainingSet(lobes_view->worldBounds(), options.resolution, options.training_lights,
-                                                   options.training_views));
+  TrainingScenes scenes(lobes_view,
+                        trainingSet(lobes_view->worldBounds(), options.resolution, options.training_lights, options.training_views),
+                        &group);
 
   // References: from the cache, else rendered and stored.
   Stopwatch clock;
-  const std::string full_hash = fullMediumKey(options.full, *full);
   const ReferenceCache cache(options.cache);
   std::vector<TrainingImage> images;
   {
-    ProgressBar bar("references", scenes.size(), options.progress && stderrIsTerminal());
+    ProgressBar bar("references", scenes.size(), root && options.progress && stderrIsTerminal());
     images = prepareTrainingImages(full_view, full_hash, scenes, options.references, cache,
                                    [&](std::size_t) { bar.advance(); });
   }
@@ -101,7 +116,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   WeightOptimizationResult result;
   result.references = int(images.size());
   for (const TrainingImage& image : images) result.cache_hits += image.cache_hit;
-  if (cache.enabled())
+  if (cache.enabled() && root)
     note(fmt::format("references: {} of {} from the cache ({}), {} rendered in {:.1f} s", result.cache_hits,
                      result.references, cache.folder(), result.references - result.cache_hits, reference_seconds));
 
@@ -114,25 +129,27 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
       {"settings", settings.iterateJson()}};
   WeightOptimizer optimizer(scenes, std::move(images), layout, settings);
   if (!options.resume.empty()) {
-    try {
-      optimizer.resume(readCheckpoint(options.resume), inputs);
-    } catch (const std::invalid_argument& e) {
-      throw MediumError(fmt::format("{}: {}", options.resume, e.what()));
-    }
-    note(fmt::format("resumed from {} after iteration {}", options.resume, optimizer.iteration()));
+    group.together([&] {
+      try {
+        optimizer.resume(readCheckpoint(options.resume), inputs);
+      } catch (const std::invalid_argument& e) {
+        throw MediumError(fmt::format("{}: {}", options.resume, e.what()));
+      }
+    });
+    if (root) note(fmt::format("resumed from {} after iteration {}", options.resume, optimizer.iteration()));
   }
 
   // SGD, with the log and the checkpoint rewritten after every iteration.
   const std::vector<std::string> names = optimizer.factors().parameterNames();
-  ProgressBar bar("optimising", std::uint64_t(settings.max_iterations), options.progress && stderrIsTerminal());
+  ProgressBar bar("optimising", std::uint64_t(settings.max_iterations), root && options.progress && stderrIsTerminal());
   bar.advance(std::uint64_t(optimizer.iteration()));
   double optimize_seconds = 0;
   for (const IterationRecord& r : optimizer.history()) optimize_seconds += r.seconds;
   while (!optimizer.done()) {
     const IterationRecord& record = optimizer.iterate();
     optimize_seconds += record.seconds;
-    if (!options.log.empty()) writeTextAtomically(options.log, logText(optimizer, names));
-    if (!options.checkpoint.empty()) writeTextAtomically(options.checkpoint, optimizer.checkpoint(inputs).dump(1) + "\n");
+    if (root && !options.log.empty()) writeTextAtomically(options.log, logText(optimizer, names));
+    if (root && !options.checkpoint.empty()) writeTextAtomically(options.checkpoint, optimizer.checkpoint(inputs).dump(1) + "\n");
     bar.setStatus(statusOf(optimizer));
     bar.advance();
   }
@@ -175,7 +192,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
                    {"optimisation", optimize_seconds},
                    {"final_evaluation", final_seconds},
                    {"total", total_clock.seconds()}}}};
-  writeMedium(*applyWeightFactors(*lobes, optimizer.factors(), result.record), options.output, options.history_line);
+  if (root) writeMedium(*applyWeightFactors(*lobes, optimizer.factors(), result.record), options.output, options.history_line);
   return result;
 }
 

@@ -18,6 +18,8 @@
 
 namespace vdbappear {
 
+class ProcessGroup;
+
 struct WeightOptimizationOptions {
   std::string full, lobes, output;        // FULL (a file), LOBES and OUT (files, or "-")
   GridMapping full_mapping;               // how FULL's foreign grids are read (--grid, io/grid_mapping.h)
@@ -35,6 +37,10 @@ struct WeightOptimizationOptions {
   std::string log, checkpoint, resume;    // files; "" for none
   std::string history_line;               // appended to OUT's history
   bool progress = true;                   // progress bars on stderr (drawn only on a terminal)
+  // The processes that share every render (cluster/process_group.h; null: this one alone). Each
+  // calls optimizeWeights with the same options and follows the same trajectory; only the root
+  // writes (OUT, the log, the checkpoint, the cache) and draws progress.
+  const ProcessGroup* group = nullptr;
 };
 
 struct WeightOptimizationResult {
@@ -43,7 +49,8 @@ struct WeightOptimizationResult {
 };
 
 // notes: one line at a time for the user (cache hits, resumption). Throws MediumError for bad input
-// (naming the file and the grid) and std::invalid_argument for bad settings.
+// (naming the file and the grid) and std::invalid_argument for bad settings; in a group of several
+// ranks, a bad input on any rank throws GroupFailure on all of them.
 WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& options,
                                          const std::function<void(const std::string&)>& note);
 

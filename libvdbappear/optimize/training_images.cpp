@@ -1,5 +1,6 @@
 #include "libvdbappear/optimize/training_images.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/version.h"
 
@@ -32,13 +33,14 @@ RenderSettings trainingRenderSettings(const TrainingView& view, int spp, std::ui
   return s;
 }
 
-TrainingScenes::TrainingScenes(std::shared_ptr<const MediumView> reduced, const std::vector<TrainingConfig>& configs)
-    : configs_(configs) {
+TrainingScenes::TrainingScenes(std::shared_ptr<const MediumView> reduced, const std::vector<TrainingConfig>& configs,
+                               const ProcessGroup* group)
+    : configs_(configs), group_(group) {
   for (const TrainingConfig& config : configs_) scenes_.push_back(sceneOf(reduced, config));
 }
 
-RenderResult TrainingScenes::render(std::size_t i, const RenderSettings& settings,
-                                    std::shared_ptr<const LobeWeightScales> scales) {
+RenderResult TrainingScenes::render(std::size_t i, RenderSettings settings, std::shared_ptr<const LobeWeightScales> scales) {
+  settings.group = group_;
   RenderScene& scene = scenes_.at(i);
   scene.lobe_scales = std::move(scales);
   const TrainingView& view = configs_[i].view;
@@ -79,19 +81,23 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     // The reference image of the full medium (RGB and alpha): cached, or rendered and stored.
     const std::string key = referenceKey(full_hash, image.config, settings);
     CachedImage reference;
-    if (std::optional<CachedImage> cached = cache.find(key);
-        cached && cached->width == view.width && cached->height == view.height) {
+    std::optional<CachedImage> cached = cache.find(key);
+    if (cached && (cached->width != view.width || cached->height != view.height)) cached.reset();
+    // Every rank renders, or none: a rank may miss what another finds (a job beside this one storing it).
+    const ProcessGroup* group = reduced.group();
+    if (group ? group->firstFailingRank(!cached) < 0 : bool(cached)) {
       reference = std::move(*cached);
       image.cache_hit = true;
     } else {
       const RenderScene scene = sceneOf(full, image.config);
-      const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height),
-                                         trainingRenderSettings(view, settings.reference_spp, settings.reference_seed, settings.path));
+      RenderSettings render_settings = trainingRenderSettings(view, settings.reference_spp, settings.reference_seed, settings.path);
+      render_settings.group = group;
+      const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height), render_settings);
       reference = {view.width, view.height, {}};
       for (std::size_t p = 0; p < r.alpha.size(); ++p)
         reference.rgba.insert(reference.rgba.end(), {r.mean[3 * p], r.mean[3 * p + 1], r.mean[3 * p + 2], r.alpha[p]});
       image.reference_seconds = r.seconds;
-      cache.store(key, reference);
+      if (!group || group->isRoot()) cache.store(key, reference);
     }
     std::vector<float> rgb, alpha;
     for (std::size_t p = 0; p < reference.rgba.size() / 4; ++p) {

@@ -38,26 +38,32 @@ struct TrainingRenderSettings {
 // Render settings of a training view: its size, spp, seed and path settings.
 RenderSettings trainingRenderSettings(const TrainingView& view, int spp, std::uint64_t seed, const PathSettings& path);
 
-// The reduced medium under every training configuration.
+// The reduced medium under every training configuration, and the processes that share each of
+// their renders and the references' (cluster/process_group.h; null: this process alone).
 class TrainingScenes {
  public:
-  TrainingScenes(std::shared_ptr<const MediumView> reduced, const std::vector<TrainingConfig>& configs);
+  TrainingScenes(std::shared_ptr<const MediumView> reduced, const std::vector<TrainingConfig>& configs,
+                 const ProcessGroup* group = nullptr);
   std::size_t size() const { return configs_.size(); }
   const TrainingConfig& config(std::size_t i) const { return configs_[i]; }
-  // Renders configuration i with the lobe weights scaled by `scales` (null: as stored).
-  RenderResult render(std::size_t i, const RenderSettings& settings, std::shared_ptr<const LobeWeightScales> scales);
+  const ProcessGroup* group() const { return group_; }
+  // Renders configuration i with the lobe weights scaled by `scales` (null: as stored), shared by
+  // the group.
+  RenderResult render(std::size_t i, RenderSettings settings, std::shared_ptr<const LobeWeightScales> scales);
 
  private:
   std::vector<TrainingConfig> configs_;
   std::vector<RenderScene> scenes_;
+  const ProcessGroup* group_;
 };
 
 // The cache key of the reference of `config`: a hash of the full medium's content hash and every
 // setting that changes the image.
 std::string referenceKey(const std::string& full_hash, const TrainingConfig& config, const TrainingRenderSettings& settings);
 
-// Masks from the reduced scenes, references from the cache or rendered (and stored). on_image(i)
-// is called after each image (progress).
+// Masks from the reduced scenes, references from the cache or rendered (and stored), each render
+// shared by the scenes' group. A reference is taken from the cache only when every rank finds it
+// there, and only the root stores one. on_image(i) is called after each image (progress).
 std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumView> full, const std::string& full_hash,
                                                  TrainingScenes& reduced, const TrainingRenderSettings& settings,
                                                  const ReferenceCache& cache,

@@ -1,5 +1,6 @@
 #include "libvdbappear/render/render_image.h"
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/io/resource_limits.h"
 #include "libvdbappear/render/path_gradients.h"
 #include "libvdbappear/util/progress.h"
@@ -9,9 +10,12 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <tuple>
 
 namespace vdbappear {
 
@@ -56,6 +60,28 @@ class Film {
     p.sum_squares += s.L * s.L;
     if (clusters_ > 0 && s.first_cluster >= 0 && s.first_cluster < clusters_)
       ++coverage_[(std::size_t(y) * width_ + x) * clusters_ + s.first_cluster];
+  }
+
+  // Every rank's sums, added up on every rank. A pixel rendered by one rank alone is exact: the
+  // others add zeros.
+  void sumOver(const ProcessGroup& group) {
+    static_assert(sizeof(Rgb) == 3 * sizeof(double), "Rgb: three packed doubles");
+    std::vector<double> sums(pixels_.size() * 6);
+    std::vector<std::uint32_t> collisions(pixels_.size());
+    for (std::size_t i = 0; i < pixels_.size(); ++i) {
+      std::copy_n(pixels_[i].sum.data(), 3, &sums[6 * i]);
+      std::copy_n(pixels_[i].sum_squares.data(), 3, &sums[6 * i + 3]);
+      collisions[i] = pixels_[i].collisions;
+    }
+    group.sum(sums.data(), sums.size());
+    group.sum(collisions.data(), collisions.size());
+    group.sum(coverage_.data(), coverage_.size());
+    group.sum(gradient_sums_.empty() ? nullptr : gradient_sums_.front().data(), 3 * gradient_sums_.size());
+    for (std::size_t i = 0; i < pixels_.size(); ++i) {
+      std::copy_n(&sums[6 * i], 3, pixels_[i].sum.data());
+      std::copy_n(&sums[6 * i + 3], 3, pixels_[i].sum_squares.data());
+      pixels_[i].collisions = collisions[i];
+    }
   }
 
   void resolve(int spp, RenderResult* result) const {
@@ -111,30 +137,153 @@ void checkRenderMemory(const RenderSettings& settings, int clusters, int gradien
       double(bytes) / kGiB, double(limit) / kGiB));
 }
 
-// Samples [first, last) of every pixel.
-void renderPass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first,
-                int last, Film& film, tbb::enumerable_thread_specific<ThreadState>& threads, ProgressBar* progress) {
-  const VolumePathTracer tracer(scene, settings.path);
-  const std::pair<int, int> gradient_shape = gradientShape(scene, settings);  // lambdas cannot capture bindings (C++17)
-  const int gradient_clusters = gradient_shape.first, gradient_lobes = gradient_shape.second;
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, settings.height, 8, 0, settings.width, 8), [&](const auto& tile) {
-    ThreadState& state = threads.local();
-    if (scene.medium && !state.lookup) state.lookup = scene.medium->lookup();
-    if (gradient_clusters > 0 && !state.gradients)
-      state.gradients = std::make_unique<PathGradients>(gradient_clusters, gradient_lobes);
-    for (int y = tile.rows().begin(); y != tile.rows().end(); ++y)
-      for (int x = tile.cols().begin(); x != tile.cols().end(); ++x)
-        for (int s = first; s < last; ++s) {
-          RandomStream rng(settings.seed, {x, y, s});
+// One pass of samples [first, last) over pixels: what every tile of it shares.
+class SamplePass {
+ public:
+  SamplePass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first, int last,
+             Film& film, tbb::enumerable_thread_specific<ThreadState>& threads)
+      : scene_(scene), camera_(camera), settings_(settings), tracer_(scene, settings.path), first_(first), last_(last),
+        film_(film), threads_(threads) {
+    std::tie(gradient_clusters_, gradient_lobes_) = gradientShape(scene, settings);
+  }
+
+  int samples() const { return last_ - first_; }
+
+  // The samples of the pixels [x0, x1) x [y0, y1), on the calling thread.
+  void renderPixels(int x0, int x1, int y0, int y1) const {
+    ThreadState& state = threads_.local();
+    if (scene_.medium && !state.lookup) state.lookup = scene_.medium->lookup();
+    if (gradient_clusters_ > 0 && !state.gradients)
+      state.gradients = std::make_unique<PathGradients>(gradient_clusters_, gradient_lobes_);
+    for (int y = y0; y != y1; ++y)
+      for (int x = x0; x != x1; ++x)
+        for (int s = first_; s < last_; ++s) {
+          RandomStream rng(settings_.seed, {x, y, s});
           const Point2 jitter = rng.uniform2();
           const PathSample sample =
-              tracer.trace(camera.ray(x + jitter.x(), y + jitter.y()), rng, state.lookup.get(), state.gradients.get());
-          film.add(x, y, sample, state.gradients.get());
+              tracer_.trace(camera_.ray(x + jitter.x(), y + jitter.y()), rng, state.lookup.get(), state.gradients.get());
+          film_.add(x, y, sample, state.gradients.get());
           ++state.paths;
           state.events += sample.scattering_events;
         }
-    if (progress) progress->advance(std::uint64_t(tile.rows().size()) * tile.cols().size() * (last - first));
+  }
+
+ private:
+  const RenderScene& scene_;
+  const PinholeCamera& camera_;
+  const RenderSettings& settings_;
+  const VolumePathTracer tracer_;
+  int first_, last_;
+  int gradient_clusters_ = 0, gradient_lobes_ = 0;
+  Film& film_;
+  tbb::enumerable_thread_specific<ThreadState>& threads_;
+};
+
+// A pass by this process alone: TBB's blocks of 8 x 8 pixels.
+void renderPassAlone(const SamplePass& pass, int width, int height, ProgressBar* progress) {
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 8, 0, width, 8), [&](const auto& block) {
+    pass.renderPixels(block.cols().begin(), block.cols().end(), block.rows().begin(), block.rows().end());
+    if (progress) progress->advance(std::uint64_t(block.rows().size()) * block.cols().size() * pass.samples());
   });
+}
+
+// The image's tiles of kTileSize x kTileSize pixels, numbered row by row.
+constexpr int kTileSize = 8;
+struct TileGrid {
+  int width, height, columns, rows;
+  TileGrid(int w, int h) : width(w), height(h), columns((w + kTileSize - 1) / kTileSize), rows((h + kTileSize - 1) / kTileSize) {}
+  std::uint64_t count() const { return std::uint64_t(columns) * rows; }
+  int x0(std::uint64_t t) const { return int(t % columns) * kTileSize; }
+  int y0(std::uint64_t t) const { return int(t / columns) * kTileSize; }
+  int x1(std::uint64_t t) const { return std::min(x0(t) + kTileSize, width); }
+  int y1(std::uint64_t t) const { return std::min(y0(t) + kTileSize, height); }
+  std::uint64_t pixels(std::uint64_t first, std::uint64_t last) const {
+    std::uint64_t n = 0;
+    for (std::uint64_t t = first; t < last; ++t) n += std::uint64_t(x1(t) - x0(t)) * (y1(t) - y0(t));
+    return n;
+  }
+};
+
+// A pass shared by the ranks of `group`: each claims batches of tiles from a counter shared by the
+// group until none is left (dynamic balancing: a tile through dense medium can cost 100 times one
+// beside it). A pixel is rendered whole by the rank that claimed its tile.
+void renderPassShared(const SamplePass& pass, const ProcessGroup& group, int width, int height, ProgressBar* progress,
+                      RankWork* work) {
+  const TileGrid tiles(width, height);
+  Stopwatch clock;
+  const std::unique_ptr<WorkCounter> counter = group.workCounter(tiles.count());
+  // A few tiles per thread a claim: few claims, and little idle time at the end of a batch.
+  const std::uint64_t batch = 4 * std::uint64_t(tbb::this_task_arena::max_concurrency());
+  std::uint64_t shown = 0;  // the progress shows every tile claimed before this rank's last claim as done
+  const auto claim = [&] {
+    const std::uint64_t first = counter->claim(batch);
+    work->claim_seconds += clock.lap();
+    return first;
+  };
+  for (std::uint64_t first = claim(); first < tiles.count(); first = claim()) {
+    const std::uint64_t last = std::min(first + batch, tiles.count());
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(first, last, 1), [&](const auto& range) {
+      for (std::uint64_t t = range.begin(); t != range.end(); ++t) pass.renderPixels(tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t));
+    });
+    work->tile_seconds += clock.lap();
+    if (progress) progress->advance(tiles.pixels(shown, last) * pass.samples());
+    shown = last;
+  }
+  if (progress) progress->advance(tiles.pixels(shown, tiles.count()) * pass.samples());
+}
+
+// Samples [first, last) of every pixel, by the group's ranks together when it has several.
+void renderPass(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings, int first,
+                int last, Film& film, tbb::enumerable_thread_specific<ThreadState>& threads, ProgressBar* progress,
+                RankWork* work) {
+  const SamplePass pass(scene, camera, settings, first, last, film, threads);
+  if (settings.group && settings.group->isShared())
+    renderPassShared(pass, *settings.group, settings.width, settings.height, progress, work);
+  else
+    renderPassAlone(pass, settings.width, settings.height, progress);
+}
+
+// Each rank's RankWork, on every rank.
+std::vector<RankWork> everyRanksWork(const ProcessGroup& group, RankWork work,
+                                     const tbb::enumerable_thread_specific<ThreadState>& threads) {
+  for (const ThreadState& state : threads) work.paths += state.paths;
+  const std::size_t n = std::size_t(group.size()), r = std::size_t(group.rank());
+  std::vector<std::uint64_t> paths(n, 0);
+  std::vector<double> seconds(3 * n, 0.0);
+  paths[r] = work.paths;
+  seconds[3 * r] = work.tile_seconds;
+  seconds[3 * r + 1] = work.claim_seconds;
+  seconds[3 * r + 2] = work.sum_seconds;
+  group.sum(paths.data(), n);
+  group.sum(seconds.data(), seconds.size());
+  std::vector<RankWork> ranks(n);
+  for (std::size_t i = 0; i < n; ++i) ranks[i] = {paths[i], seconds[3 * i], seconds[3 * i + 1], seconds[3 * i + 2]};
+  return ranks;
+}
+
+// With --time: the samples of the next pass, sized to take about a quarter of the time left.
+std::int64_t nextPassSize(const RenderSettings& settings, double elapsed, int done) {
+  const double per_sample = elapsed / done;
+  const double affordable = (settings.time_seconds - elapsed) / 4 / per_sample;
+  return std::int64_t(std::clamp(affordable, 1.0, double(settings.spp - done)));
+}
+
+// Counts of every rank's threads, summed over the group.
+void sumStatistics(const tbb::enumerable_thread_specific<ThreadState>& threads, const ProcessGroup* group,
+                   RenderResult* result) {
+  std::uint64_t counts[4] = {0, 0, 0, 0};
+  for (const ThreadState& state : threads) {
+    counts[0] += state.paths;
+    counts[1] += state.events;
+    if (!state.lookup) continue;
+    counts[2] += state.lookup->stats().tentative_collisions;
+    counts[3] += state.lookup->stats().majorant_violations;
+  }
+  if (group) group->sum(counts, 4);
+  result->paths = counts[0];
+  result->scattering_events = counts[1];
+  result->tracking.tentative_collisions = counts[2];
+  result->tracking.majorant_violations = counts[3];
 }
 
 }  // namespace
@@ -147,31 +296,34 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
   checkRenderMemory(settings, clusters, gradient_clusters * gradient_lobes);
   Film film(settings.width, settings.height, clusters, gradient_clusters * gradient_lobes);
   tbb::enumerable_thread_specific<ThreadState> threads;
+  RankWork work;
   const std::uint64_t pixels = std::uint64_t(settings.width) * settings.height;
   int done = 0;
   if (settings.time_seconds > 0) {
     // Passes of samples until the time is spent: one sample first, then passes sized to take about
     // a quarter of the time left. Each sample is still keyed by its index, so a run that ends
-    // with the same count is identical.
+    // with the same count is identical. (Under several ranks, a pixel's passes may fall to different
+    // ranks: the same estimate, summed in another order.)
     if (progress) progress->setTotal(std::uint64_t(settings.time_seconds * 1000));
     int pass = 1;
     std::uint64_t shown_ms = 0;
     while (done < settings.spp) {
       const int last = std::min(settings.spp, done + pass);
-      renderPass(scene, camera, settings, done, last, film, threads, nullptr);
+      renderPass(scene, camera, settings, done, last, film, threads, nullptr, &work);
       done = last;
       const double elapsed = clock.seconds();
       const auto elapsed_ms = std::uint64_t(std::min(elapsed, settings.time_seconds) * 1000);
       if (progress) progress->advance(elapsed_ms - shown_ms);
       shown_ms = elapsed_ms;
-      if (elapsed >= settings.time_seconds) break;
-      const double per_sample = elapsed / done;
-      const double affordable = (settings.time_seconds - elapsed) / 4 / per_sample;
-      pass = int(std::clamp(affordable, 1.0, double(settings.spp - done)));
+      // The root's clock decides for the whole group: 0 ends the render.
+      std::int64_t next = elapsed >= settings.time_seconds ? 0 : nextPassSize(settings, elapsed, done);
+      if (settings.group) settings.group->broadcast(&next, 1);
+      if (next == 0) break;
+      pass = int(next);
     }
   } else {
     if (progress) progress->setTotal(pixels * settings.spp);
-    renderPass(scene, camera, settings, 0, settings.spp, film, threads, progress);
+    renderPass(scene, camera, settings, 0, settings.spp, film, threads, progress, &work);
     done = settings.spp;
   }
   if (progress) progress->finish();
@@ -183,12 +335,14 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
   result.cluster_count = clusters;
   result.gradient_clusters = gradient_clusters;
   result.gradient_lobes = gradient_lobes;
-  film.resolve(done, &result);
-  for (const ThreadState& state : threads) {
-    result.paths += state.paths;
-    result.scattering_events += state.events;
-    if (state.lookup) result.tracking += state.lookup->stats();
+  if (settings.group && settings.group->isShared()) {
+    Stopwatch sum_clock;
+    film.sumOver(*settings.group);
+    work.sum_seconds = sum_clock.seconds();
   }
+  film.resolve(done, &result);
+  sumStatistics(threads, settings.group, &result);
+  if (settings.group && settings.group->isShared()) result.ranks = everyRanksWork(*settings.group, work, threads);
   result.seconds = clock.seconds();
   return result;
 }

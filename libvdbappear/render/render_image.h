@@ -1,6 +1,9 @@
 #pragma once
 // Renders an image: pixels in parallel (TBB), each sample of each pixel from its own random stream
-// keyed by (seed, x, y, sample index), so the image is bit-identical for any thread count.
+// keyed by (seed, x, y, sample index), so the image is bit-identical for any thread count. Given a
+// process group of several ranks (cluster/process_group.h), the ranks share the image's tiles
+// through a shared counter and sum their films: every pixel is still taken whole by one process, so
+// the image is bit-identical for any rank count too (docs/scaling.md).
 
 #include "libvdbappear/render/camera.h"
 #include "libvdbappear/render/volume_path_tracer.h"
@@ -12,6 +15,7 @@
 
 namespace vdbappear {
 
+class ProcessGroup;
 class ProgressBar;
 
 struct RenderSettings {
@@ -24,6 +28,17 @@ struct RenderSettings {
   // Gradient images (render/path_gradients.h) of every (cluster, lobe slot) of a multi-lobe medium
   // with a `cluster` grid, from the same paths as the image.
   bool weight_gradients = false;
+  // The processes that share this render (every one of them calls renderImage with the same
+  // arguments, and every one gets the whole result); null: this process alone.
+  const ProcessGroup* group = nullptr;
+};
+
+// One rank's share of a render shared by a process group: its paths, and its seconds rendering
+// tiles, claiming them from the shared counter, and in the final sum of the films (which includes
+// waiting there for the slowest rank).
+struct RankWork {
+  std::uint64_t paths = 0;
+  double tile_seconds = 0, claim_seconds = 0, sum_seconds = 0;
 };
 
 struct RenderResult {
@@ -45,10 +60,12 @@ struct RenderResult {
   std::vector<std::pair<std::string, std::vector<float>>> extra_channels;
   double seconds = 0;
   std::uint64_t paths = 0, scattering_events = 0;
+  std::vector<RankWork> ranks;  // per rank, when a group of several shared the render
   TrackingStats tracking;
 };
 
-// Throws std::invalid_argument when gradients are asked of a scene that has none to give (no lobe
+// `progress` shows the work of the whole group (give it on one rank only). Throws
+// std::invalid_argument when gradients are asked of a scene that has none to give (no lobe
 // or cluster grids) or that takes light from an SH grid.
 RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                          ProgressBar* progress = nullptr);
