@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training lobes similarity lightgrid optimize modularity subsurface displacement clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training bench-mpi lobes similarity lightgrid optimize modularity subsurface displacement clean
 
 all: build
 
@@ -60,6 +60,11 @@ bench: build
 # vdb_render against Blender Cycles (installs Debian's blender for itself when missing).
 bench-render: build
 	@scripts/bench_render.py --build $(BUILD_DIR)
+
+# vdb_render on 1 and 2 MPI ranks: strong scaling, communication, imbalance and the scaling model
+# of docs/scaling.md (bench-out/mpi_report.md).
+bench-mpi: build
+	@scripts/bench_mpi.py --build $(BUILD_DIR)
 
 # The weight optimisation's training renders: restricted-mean noise and seconds per set (bench/training_set_bench.cpp).
 # BASELINE_LIB=DIR: the same benchmark with another build's libvdbappear.so (DIR holds it; its public types must

@@ -33,6 +33,8 @@ constexpr const char* kExamples = R"(Examples:
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
   vdb_render houdini_smoke.vdb -o smoke.png --grid albedo=Cd --grid density=density:0.5   (foreign grid names)
+  mpirun -n 4 vdb_render velvet.vdb -o velvet.exr --res 1280x720 --spp 4096 -j 8   (ranks share the tiles;
+      the same image at any rank count: docs/scaling.md)
   vdb_render --translucent-mesh bunny.obj --sss-density 2.2,2.6,3.0 --sss-albedo 0.999 --camera-pos 0,-4,1
       --camera-target 0,0,0 -o bunny.exr --sun 1,1,-1,3   (a translucent object by the dipole; docs/subsurface.md)
 Without a light flag or scene lights: a dim sky and a sun from the upper side (--env 0.1
@@ -162,7 +164,12 @@ SceneDescription sceneOf(const CLI::App& app, const Flags& f) {
       continue;
     }
     if (aov == "sss") continue;
-    if (aov != "cluster") throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster, dweights or sss");
+    if (aov == "time") {
+      scene.render.pixel_seconds = true;
+      continue;
+    }
+    if (aov != "cluster")
+      throw std::runtime_error("--aov '" + aov + "': expected alpha, variance, cluster, dweights, sss or time");
     scene.render.cluster_coverage = true;
   }
   if (scene.medium.empty() && scene.meshes.empty() && scene.height_fields.empty() && !scene.ground)
@@ -232,7 +239,8 @@ void addFlags(CLI::App& app, Flags& f) {
       ->check(CLI::IsMember({"hermite", "trilinear", "taylor"}));
   app.add_option("--aov", f.aovs,
                  "extra EXR channels: alpha, variance, cluster, dweights (gradient images of the lobe-weight factors; "
-                 "docs/rendering.md), sss (translucent objects' caches, |grad S| and V; docs/subsurface.md)")->delimiter(',');
+                 "docs/rendering.md), sss (translucent objects' caches, |grad S| and V; docs/subsurface.md), time (seconds "
+                 "spent on each pixel: where the render's time goes, docs/scaling.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
 }
@@ -259,6 +267,18 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
                                        {"target", {camera.target.x(), camera.target.y(), camera.target.z()}},
                                        {"up", {camera.up.x(), camera.up.y(), camera.up.z()}},
                                        {"fov", camera.fov_degrees}}}};
+  if (std::vector<double> tiles = tileSeconds(r); !tiles.empty()) {
+    // Where the time went, per tile of the work the ranks share, in the order the ranks claim them
+    // (docs/scaling.md's model replays them), and their distribution.
+    const std::vector<double> values = tiles;
+    std::sort(tiles.begin(), tiles.end());
+    double total = 0;
+    for (double t : tiles) total += t;
+    const auto quantile = [&](double q) { return tiles[std::min(tiles.size() - 1, std::size_t(q * double(tiles.size())))]; };
+    report["tile_seconds"] = {{"tile_size", kRenderTileSize}, {"tiles", tiles.size()}, {"total", total},
+                              {"mean", total / double(tiles.size())}, {"median", quantile(0.5)}, {"p90", quantile(0.9)},
+                              {"p99", quantile(0.99)}, {"max", tiles.back()}, {"values", values}};
+  }
   if (!r.ranks.empty()) {
     nlohmann::json ranks = nlohmann::json::array();
     for (const RankWork& w : r.ranks)
@@ -308,7 +328,7 @@ RenderJob prepareJob(const CLI::App& app, const Flags& flags, const GridMapping&
   const SceneDescription& scene = job.scene;
   const auto asked = [&](const char* aov) { return std::find(flags.aovs.begin(), flags.aovs.end(), aov) != flags.aovs.end(); };
   job.outputs = {flags.output,      flags.preview, asked("alpha"), asked("variance"), scene.render.cluster_coverage,
-                 scene.render.weight_gradients, asked("sss")};
+                 scene.render.weight_gradients, asked("sss"), scene.render.pixel_seconds};
   const RenderOutputs& outputs = job.outputs;
   checkRenderOutputs(outputs);
   if (group.isRoot()) {  // only the root writes
@@ -348,7 +368,7 @@ RenderJob prepareJob(const CLI::App& app, const Flags& flags, const GridMapping&
 
 void writeResults(const Flags& flags, RenderJob& job, RenderResult& result) {
   const SceneDescription& scene = job.scene;
-  result.extra_channels = std::move(job.caching.channels);
+  for (auto& channel : job.caching.channels) result.extra_channels.push_back(std::move(channel));
   writeRenderOutputs(result, job.outputs);
   nlohmann::json report = reportOf(scene, job.pose, result, job.medium.get());
   if (!job.render_scene.translucent.empty()) report["subsurface"] = subsurfaceReport(scene, job.caching, job.render_scene, result);

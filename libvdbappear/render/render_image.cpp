@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <tuple>
 
 namespace vdbappear {
@@ -35,16 +36,19 @@ struct ThreadState {
 
 class Film {
  public:
-  Film(int width, int height, int clusters, int gradient_parameters)
+  Film(int width, int height, int clusters, int gradient_parameters, bool pixel_seconds)
       : width_(width), clusters_(clusters), parameters_(gradient_parameters), pixels_(std::size_t(width) * height),
         coverage_(std::size_t(width) * height * clusters, 0),
-        gradient_sums_(std::size_t(width) * height * gradient_parameters, Rgb::Zero()) {}
+        gradient_sums_(std::size_t(width) * height * gradient_parameters, Rgb::Zero()),
+        seconds_(pixel_seconds ? pixels_.size() : 0, 0.0) {}
 
   // What a render holds per pixel: the film's sums, and the result they resolve to twice over (the
   // result, and the copy an output writer makes of it).
-  static std::uint64_t bytesPerPixel(int clusters, int gradient_parameters) {
-    const std::uint64_t film = sizeof(PixelSums) + sizeof(std::uint32_t) * clusters + sizeof(Rgb) * gradient_parameters;
-    const std::uint64_t result = sizeof(float) * (3 + 3 + 1 + clusters + 3 * std::uint64_t(gradient_parameters));
+  static std::uint64_t bytesPerPixel(int clusters, int gradient_parameters, bool pixel_seconds) {
+    const std::uint64_t film = sizeof(PixelSums) + sizeof(std::uint32_t) * clusters + sizeof(Rgb) * gradient_parameters +
+                               (pixel_seconds ? sizeof(double) : 0);
+    const std::uint64_t result =
+        sizeof(float) * (3 + 3 + 1 + clusters + 3 * std::uint64_t(gradient_parameters) + (pixel_seconds ? 1 : 0));
     return film + 2 * result;
   }
 
@@ -62,6 +66,9 @@ class Film {
       ++coverage_[(std::size_t(y) * width_ + x) * clusters_ + s.first_cluster];
   }
 
+  bool timesPixels() const { return !seconds_.empty(); }
+  void addSeconds(int x, int y, double seconds) { seconds_[std::size_t(y) * width_ + x] += seconds; }
+
   // Every rank's sums, added up on every rank. A pixel rendered by one rank alone is exact: the
   // others add zeros.
   void sumOver(const ProcessGroup& group) {
@@ -77,6 +84,7 @@ class Film {
     group.sum(collisions.data(), collisions.size());
     group.sum(coverage_.data(), coverage_.size());
     group.sum(gradient_sums_.empty() ? nullptr : gradient_sums_.front().data(), 3 * gradient_sums_.size());
+    group.sum(seconds_.data(), seconds_.size());
     for (std::size_t i = 0; i < pixels_.size(); ++i) {
       std::copy_n(&sums[6 * i], 3, pixels_[i].sum.data());
       std::copy_n(&sums[6 * i + 3], 3, pixels_[i].sum_squares.data());
@@ -100,6 +108,7 @@ class Film {
     result->weight_gradients.resize(gradient_sums_.size() * 3);
     for (std::size_t i = 0; i < gradient_sums_.size(); ++i)
       for (int c = 0; c < 3; ++c) result->weight_gradients[3 * i + c] = float(gradient_sums_[i][c] / spp);
+    if (timesPixels()) result->extra_channels.emplace_back("time", std::vector<float>(seconds_.begin(), seconds_.end()));
     if (clusters_ == 0) return;
     result->cluster_coverage.resize(coverage_.size());
     for (std::size_t i = 0; i < coverage_.size(); ++i) result->cluster_coverage[i] = float(double(coverage_[i]) / spp);
@@ -110,6 +119,7 @@ class Film {
   std::vector<PixelSums> pixels_;
   std::vector<std::uint32_t> coverage_;
   std::vector<Rgb> gradient_sums_;  // per pixel and parameter
+  std::vector<double> seconds_;     // per pixel, with the AOV "time"
 };
 
 // The (clusters, lobes) of the gradient images: both 0 when none are asked.
@@ -124,8 +134,8 @@ std::pair<int, int> gradientShape(const RenderScene& scene, const RenderSettings
 // Refuses, before anything is allocated, a render that would hold more than the limit of
 // io/resource_limits.h (the machine's memory unless set).
 void checkRenderMemory(const RenderSettings& settings, int clusters, int gradient_parameters) {
-  const std::uint64_t bytes =
-      std::uint64_t(settings.width) * std::uint64_t(settings.height) * Film::bytesPerPixel(clusters, gradient_parameters);
+  const std::uint64_t bytes = std::uint64_t(settings.width) * std::uint64_t(settings.height) *
+                              Film::bytesPerPixel(clusters, gradient_parameters, settings.pixel_seconds);
   const std::uint64_t limit = maxRenderBytes();
   if (bytes <= limit) return;
   constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
@@ -156,7 +166,8 @@ class SamplePass {
     if (gradient_clusters_ > 0 && !state.gradients)
       state.gradients = std::make_unique<PathGradients>(gradient_clusters_, gradient_lobes_);
     for (int y = y0; y != y1; ++y)
-      for (int x = x0; x != x1; ++x)
+      for (int x = x0; x != x1; ++x) {
+        const std::optional<Stopwatch> clock = film_.timesPixels() ? std::optional<Stopwatch>(std::in_place) : std::nullopt;
         for (int s = first_; s < last_; ++s) {
           RandomStream rng(settings_.seed, {x, y, s});
           const Point2 jitter = rng.uniform2();
@@ -166,6 +177,8 @@ class SamplePass {
           ++state.paths;
           state.events += sample.scattering_events;
         }
+        if (clock) film_.addSeconds(x, y, clock->seconds());
+      }
   }
 
  private:
@@ -188,7 +201,7 @@ void renderPassAlone(const SamplePass& pass, int width, int height, ProgressBar*
 }
 
 // The image's tiles of kTileSize x kTileSize pixels, numbered row by row.
-constexpr int kTileSize = 8;
+constexpr int kTileSize = kRenderTileSize;
 struct TileGrid {
   int width, height, columns, rows;
   TileGrid(int w, int h) : width(w), height(h), columns((w + kTileSize - 1) / kTileSize), rows((h + kTileSize - 1) / kTileSize) {}
@@ -288,13 +301,25 @@ void sumStatistics(const tbb::enumerable_thread_specific<ThreadState>& threads, 
 
 }  // namespace
 
+std::vector<double> tileSeconds(const RenderResult& result) {
+  const auto time = std::find_if(result.extra_channels.begin(), result.extra_channels.end(),
+                                 [](const auto& channel) { return channel.first == "time"; });
+  if (time == result.extra_channels.end()) return {};
+  const TileGrid tiles(result.width, result.height);
+  std::vector<double> seconds(tiles.count(), 0.0);
+  for (int y = 0; y < result.height; ++y)
+    for (int x = 0; x < result.width; ++x)
+      seconds[std::size_t(y / kTileSize) * tiles.columns + x / kTileSize] += time->second[std::size_t(y) * result.width + x];
+  return seconds;
+}
+
 RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                          ProgressBar* progress) {
   const Stopwatch clock;
   const int clusters = settings.cluster_coverage && scene.medium ? scene.medium->clusterCount() : 0;
   const auto [gradient_clusters, gradient_lobes] = gradientShape(scene, settings);
   checkRenderMemory(settings, clusters, gradient_clusters * gradient_lobes);
-  Film film(settings.width, settings.height, clusters, gradient_clusters * gradient_lobes);
+  Film film(settings.width, settings.height, clusters, gradient_clusters * gradient_lobes, settings.pixel_seconds);
   tbb::enumerable_thread_specific<ThreadState> threads;
   RankWork work;
   const std::uint64_t pixels = std::uint64_t(settings.width) * settings.height;

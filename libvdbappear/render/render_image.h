@@ -28,6 +28,9 @@ struct RenderSettings {
   // Gradient images (render/path_gradients.h) of every (cluster, lobe slot) of a multi-lobe medium
   // with a `cluster` grid, from the same paths as the image.
   bool weight_gradients = false;
+  // AOV "time" (RenderResult::extra_channels): the wall-clock seconds spent on each pixel's samples,
+  // on whichever thread and rank took it.
+  bool pixel_seconds = false;
   // The processes that share this render (every one of them calls renderImage with the same
   // arguments, and every one gets the whole result); null: this process alone.
   const ProcessGroup* group = nullptr;
@@ -63,6 +66,13 @@ struct RenderResult {
   std::vector<RankWork> ranks;  // per rank, when a group of several shared the render
   TrackingStats tracking;
 };
+
+// The side of the square tiles in which the ranks of a group claim the image.
+constexpr int kRenderTileSize = 8;
+
+// With the AOV "time": the seconds spent on each tile of kRenderTileSize pixels (row by row of
+// tiles), the units of work the ranks of a group share; empty without it.
+std::vector<double> tileSeconds(const RenderResult& result);
 
 // `progress` shows the work of the whole group (give it on one rank only). Throws
 // std::invalid_argument when gradients are asked of a scene that has none to give (no lobe

@@ -54,7 +54,8 @@ RgbImage renderRgb(const RenderResult& result) {
 }
 
 void checkRenderOutputs(const RenderOutputs& outputs) {
-  const bool aovs = outputs.alpha || outputs.variance || outputs.clusters || outputs.weight_gradients || outputs.subsurface;
+  const bool aovs = outputs.alpha || outputs.variance || outputs.clusters || outputs.weight_gradients || outputs.subsurface ||
+                    outputs.pixel_seconds;
   if (aovs && imageFormat(outputs.image) != "exr")
     throw MediumError(fmt::format("{}: AOVs need an .exr output", outputs.image));
   if (!outputs.preview.empty()) imageFormat(outputs.preview);

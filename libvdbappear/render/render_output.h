@@ -30,6 +30,7 @@ struct RenderOutputs {
   bool clusters = false;
   bool weight_gradients = false;
   bool subsurface = false;  // RenderResult::extra_channels hold the subsurface AOVs (checked here only)
+  bool pixel_seconds = false;  // RenderResult::extra_channels hold "time" (checked here only)
 };
 
 ImageChannels renderChannels(const RenderResult& result, const RenderOutputs& aovs);

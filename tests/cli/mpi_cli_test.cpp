@@ -1,6 +1,6 @@
 // vdb_render and vdb_optimize_weights under mpirun (built when CMake finds MPI; docs/scaling.md):
-// images and weight trajectories bit-identical at 1 and 2 ranks and to the process started without
-// mpirun, whatever the thread count; a checkpoint written at 2 ranks resumes at 1; and the failures
+// images and weight trajectories bit-identical at 1 and 2 ranks, to the process started without
+// mpirun and to the tools built without MPI, whatever the thread count; a checkpoint written at 2 ranks resumes at 1; and the failures
 // (a rank that cannot read the medium, a rank that dies, a flag error, stdin) end the job with one
 // error line, a non-zero status and the previous output intact.
 #include "cli/run_command.h"
@@ -24,6 +24,8 @@ using test::TempDir;
 
 const std::string kRender = quote(VDB_RENDER);
 const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
+const std::string kRenderWithoutMpi = quote(VDB_RENDER_WITHOUT_MPI);
+const std::string kOptimizeWithoutMpi = quote(VDB_OPTIMIZE_WEIGHTS_WITHOUT_MPI);
 const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
 const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
 
@@ -62,15 +64,17 @@ struct Media {
   }
 };
 
-// The image and every AOV, gradient images included, identical to the byte: without mpirun, and at
-// 1 and 2 ranks with 1 and 2 threads each.
+// The image and every AOV, gradient images included, identical to the byte: built without MPI,
+// without mpirun, and at 1 and 2 ranks with 1 and 2 threads each.
 TEST(MpiCli, RenderIsBitIdenticalAtEveryRankAndThreadCount) {
   const Media m;
   const std::string args = " --res 40x24 --spp 6 --seed 7 --view -x --sun 1,1,-1,2 --aov alpha,variance,cluster,dweights ";
-  const std::string solo = m.dir.path("solo.exr");
-  ASSERT_EQ(runCommand(kRender + " " + quote(m.lobes) + args + "-o " + quote(solo)).status, 0);
-  const std::string expected = bytesOf(solo);
+  const std::string without_mpi = m.dir.path("without_mpi.exr"), solo = m.dir.path("solo.exr");
+  ASSERT_EQ(runCommand(kRenderWithoutMpi + " " + quote(m.lobes) + args + "-o " + quote(without_mpi)).status, 0);
+  const std::string expected = bytesOf(without_mpi);
   ASSERT_GT(expected.size(), 1000u);
+  ASSERT_EQ(runCommand(kRender + " " + quote(m.lobes) + args + "-o " + quote(solo)).status, 0);
+  EXPECT_TRUE(bytesOf(solo) == expected) << "without mpirun";
   for (const auto& [ranks, threads] : {std::pair{1, 2}, std::pair{2, 1}, std::pair{2, 2}}) {
     const std::string name = "r" + std::to_string(ranks) + "t" + std::to_string(threads);
     const std::string out = m.dir.path(name + ".exr"), report = m.dir.path(name + ".json");
@@ -126,9 +130,10 @@ std::vector<nlohmann::json> logLines(const std::string& path) {
 TEST(MpiCli, OptimisationTrajectoryIsIdenticalAndResumesAtAnotherRankCount) {
   const Media m;
   const std::string quick = " --resolution 16 --spp 4 --reference-spp 8 --tolerance 0 ";
-  const auto run = [&](const std::string& launcher, const std::string& name, const std::string& extra) {
+  const auto run = [&](const std::string& launcher, const std::string& name, const std::string& extra,
+                       const std::string& tool = kOptimize) {
     const std::string out = m.dir.path(name + ".vdb");
-    const auto r = runCommand(launcher + kOptimize + quick + extra + " --log " + quote(m.dir.path(name + ".jsonl")) + " " +
+    const auto r = runCommand(launcher + tool + quick + extra + " --log " + quote(m.dir.path(name + ".jsonl")) + " " +
                               quote(m.full) + " " + quote(m.lobes) + " " + quote(out));
     EXPECT_EQ(r.status, 0) << name << ": " << r.err;
     return logLines(m.dir.path(name + ".jsonl"));
@@ -136,10 +141,15 @@ TEST(MpiCli, OptimisationTrajectoryIsIdenticalAndResumesAtAnotherRankCount) {
   const std::string cache = " --cache " + quote(m.dir.path("cache")) + " ";
   const auto solo = run("", "solo", "--iterations 4 --no-cache");
   const auto two = run(mpirun(2), "two", "--iterations 4 -j 1" + cache);
+  const auto without_mpi = run("", "without_mpi", "--iterations 4 --no-cache", kOptimizeWithoutMpi);
   ASSERT_EQ(solo.size(), 4u);
   ASSERT_EQ(two.size(), 4u);
+  ASSERT_EQ(without_mpi.size(), 4u);
   for (std::size_t t = 0; t < solo.size(); ++t)
-    for (const char* key : {"E", "gradient", "step", "factors"}) EXPECT_EQ(solo[t][key], two[t][key]) << "iteration " << t + 1 << ", " << key;
+    for (const char* key : {"E", "gradient", "step", "factors"}) {
+      EXPECT_EQ(solo[t][key], two[t][key]) << "iteration " << t + 1 << ", " << key;
+      EXPECT_EQ(solo[t][key], without_mpi[t][key]) << "iteration " << t + 1 << ", " << key;
+    }
 
   const std::string checkpoint = m.dir.path("two.ckpt");
   run(mpirun(2), "first", "--iterations 2 -v --checkpoint " + quote(checkpoint) + cache);

@@ -74,6 +74,37 @@ TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
   EXPECT_GT(json["paths_per_second"].get<double>(), 0);
 }
 
+// --aov time: per pixel, the seconds spent on its samples, non-negative and summing to no more
+// than the render's seconds times its threads; the report's tiles cover the image in 8 x 8 tiles and
+// sum to the channel's total. Negative control: the channel varies (the cube's pixels cost more
+// than the empty ones around it).
+TEST(RenderCli, TimeAovSaysWhereTheTimeWent) {
+  TempDir dir;
+  const std::string out = dir.path("t.exr"), report = dir.path("t.json");
+  const auto r = runCommand(kRender + " " + kCube + " -o " + quote(out) + " --res 20x12 --spp 16 -j 1 --aov time --report " +
+                            quote(report));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const ImageChannels image = readImageChannels(out);
+  ASSERT_EQ(image.names.back(), "time");
+  const std::size_t n = image.names.size();
+  double total = 0, least = 1e30, most = 0;
+  for (std::size_t i = n - 1; i < image.values.size(); i += n) {
+    EXPECT_GE(image.values[i], 0.0f);
+    total += image.values[i];
+    least = std::min(least, double(image.values[i]));
+    most = std::max(most, double(image.values[i]));
+  }
+  std::ifstream in(report);
+  const auto json = nlohmann::json::parse(in);
+  EXPECT_LE(total, json["seconds"].get<double>() * 1.001);
+  EXPECT_GT(most, 2 * least);
+  const auto& tiles = json["tile_seconds"];
+  EXPECT_EQ(tiles["tiles"], 3 * 2);  // ceil(20 / 8) x ceil(12 / 8)
+  EXPECT_EQ(tiles["values"].size(), 6u);
+  EXPECT_NEAR(tiles["total"].get<double>(), total, 1e-3 * total + 1e-9);
+  EXPECT_LE(tiles["median"].get<double>(), tiles["max"].get<double>());
+}
+
 // An EXR render never loads OpenImageIO, whose 260 shared libraries cost every process that links
 // it 0.4 s and 128 MB at start (docs/rendering.md §7); a PNG preview loads it, through the module
 // that lies next to libvdbappear_image. The dynamic loader's own log says what it loaded.
