@@ -24,6 +24,8 @@ packages=(
   libembree-dev libassimp-dev
   # several processes: vdb_render and vdb_optimize_weights under mpirun or srun (docs/scaling.md)
   libopenmpi-dev openmpi-bin
+  # a single-node Slurm cluster for the test of the example batch script (tests/slurm)
+  slurm-wlm
   # tests
   libgtest-dev
   # sanitizer builds and libFuzzer harnesses (make test-sanitize)
