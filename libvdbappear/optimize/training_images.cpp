@@ -68,6 +68,8 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
                                                  TrainingScenes& reduced, const TrainingRenderSettings& settings,
                                                  const ReferenceCache& cache,
                                                  const std::function<void(std::size_t)>& on_image) {
+  const SoloProcessGroup solo;
+  const ProcessGroup& group = reduced.group() ? *reduced.group() : solo;
   std::vector<TrainingImage> images;
   for (std::size_t i = 0; i < reduced.size(); ++i) {
     TrainingImage image;
@@ -81,23 +83,26 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     // The reference image of the full medium (RGB and alpha): cached, or rendered and stored.
     const std::string key = referenceKey(full_hash, image.config, settings);
     CachedImage reference;
-    std::optional<CachedImage> cached = cache.find(key);
-    if (cached && (cached->width != view.width || cached->height != view.height)) cached.reset();
-    // Every rank renders, or none: a rank may miss what another finds (a job beside this one storing it).
-    const ProcessGroup* group = reduced.group();
-    if (group ? group->firstFailingRank(!cached) < 0 : bool(cached)) {
+    // A damaged entry ends every rank at once. Every rank renders, or none: a rank may miss what
+    // another finds (a job beside this one storing it).
+    std::optional<CachedImage> cached;
+    group.together([&] {
+      cached = cache.find(key);
+      if (cached && (cached->width != view.width || cached->height != view.height)) cached.reset();
+    });
+    if (group.firstFailingRank(!cached) < 0) {
       reference = std::move(*cached);
       image.cache_hit = true;
     } else {
       const RenderScene scene = sceneOf(full, image.config);
       RenderSettings render_settings = trainingRenderSettings(view, settings.reference_spp, settings.reference_seed, settings.path);
-      render_settings.group = group;
+      render_settings.group = reduced.group();
       const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height), render_settings);
       reference = {view.width, view.height, {}};
       for (std::size_t p = 0; p < r.alpha.size(); ++p)
         reference.rgba.insert(reference.rgba.end(), {r.mean[3 * p], r.mean[3 * p + 1], r.mean[3 * p + 2], r.alpha[p]});
       image.reference_seconds = r.seconds;
-      if (!group || group->isRoot()) cache.store(key, reference);
+      if (group.isRoot()) cache.store(key, reference);
     }
     std::vector<float> rgb, alpha;
     for (std::size_t p = 0; p < reference.rgba.size() / 4; ++p) {

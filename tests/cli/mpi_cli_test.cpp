@@ -238,6 +238,22 @@ TEST(MpiCli, ErrorsOfEveryRankAreReportedOnce) {
   EXPECT_NE(optimize.status, 0);
   EXPECT_EQ(errorLines(optimize.err, "vdb_optimize_weights"), 1) << optimize.err;
   EXPECT_FALSE(std::filesystem::exists(m.dir.path("w.vdb")));
+  // A damaged entry of the reference cache, which every rank reads: one line naming it.
+  const std::string cache = m.dir.path("cache"), quick = " --resolution 16 --spp 4 --reference-spp 8 --iterations 1 ";
+  ASSERT_EQ(runCommand(kOptimize + quick + "--cache " + quote(cache) + " " + quote(m.full) + " " + quote(m.lobes) + " " +
+                       quote(m.dir.path("first.vdb")))
+                .status,
+            0);
+  std::string damaged;
+  for (const auto& entry : std::filesystem::directory_iterator(cache)) damaged = entry.path().string();
+  ASSERT_FALSE(damaged.empty());
+  { std::ofstream(damaged, std::ios::trunc) << "vdbappear-reference 1 broken"; }
+  const auto cached = runCommand(mpirun(2) + kOptimize + quick + "--cache " + quote(cache) + " " + quote(m.full) + " " +
+                                 quote(m.lobes) + " " + quote(m.dir.path("w.vdb")));
+  EXPECT_NE(cached.status, 0);
+  EXPECT_EQ(errorLines(cached.err, "vdb_optimize_weights"), 1) << cached.err;
+  EXPECT_NE(cached.err.find(std::filesystem::path(damaged).filename().string()), std::string::npos) << cached.err;
+  EXPECT_FALSE(std::filesystem::exists(m.dir.path("w.vdb")));
 }
 
 }  // namespace
