@@ -217,6 +217,15 @@ struct TileGrid {
   }
 };
 
+// Guided self-scheduling of a rank's next claim: up to 4 tiles per thread while much is left (few
+// claims), down to 1 per thread as the tiles run out, so that the last batches are small and many
+// ranks still find work. `claimed` is the counter as this rank last saw it.
+std::uint64_t batchSize(std::uint64_t tiles, std::uint64_t claimed, int ranks, int threads) {
+  const std::uint64_t left = tiles > claimed ? tiles - claimed : 0;
+  const std::uint64_t per_thread = std::clamp<std::uint64_t>(left / (2 * std::uint64_t(ranks) * threads), 1, 4);
+  return per_thread * std::uint64_t(threads);
+}
+
 // A pass shared by the ranks of `group`: each claims batches of tiles from a counter shared by the
 // group until none is left (dynamic balancing: a tile through dense medium can cost 100 times one
 // beside it). A pixel is rendered whole by the rank that claimed its tile.
@@ -225,11 +234,14 @@ void renderPassShared(const SamplePass& pass, const ProcessGroup& group, int wid
   const TileGrid tiles(width, height);
   Stopwatch clock;
   const std::unique_ptr<WorkCounter> counter = group.workCounter(tiles.count());
-  // A few tiles per thread a claim: few claims, and little idle time at the end of a batch.
-  const std::uint64_t batch = 4 * std::uint64_t(tbb::this_task_arena::max_concurrency());
-  std::uint64_t shown = 0;  // the progress shows every tile claimed before this rank's last claim as done
+  const int threads = tbb::this_task_arena::max_concurrency();
+  std::uint64_t shown = 0;    // the progress shows every tile claimed before this rank's last claim as done
+  std::uint64_t claimed = 0;  // the counter as this rank last saw it
+  std::uint64_t batch = 0;
   const auto claim = [&] {
+    batch = batchSize(tiles.count(), claimed, group.size(), threads);
     const std::uint64_t first = counter->claim(batch);
+    claimed = first + batch;
     work->claim_seconds += clock.lap();
     return first;
   };
