@@ -26,40 +26,30 @@ void tuneAllocator() { mallopt(M_TOP_PAD, 64 << 20); }
 }  // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
-  tuneAllocator();
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // 0 for --help and --version, CLI11's non-zero code for a flag error
-  }
-  try {
-    return body();
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "{}: error: {}\n", app.get_name(), errorLine(e.what()));
-    return 1;
-  }
+  return run(app, argc, argv, SoloProcessGroup(), body);
 }
 
 int run(CLI::App& app, int argc, char** argv, const ProcessGroup& group, const std::function<int()>& body) {
-  if (!group.isShared()) return run(app, argc, argv, body);
   tuneAllocator();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (group.isRoot()) return app.exit(e);
+    if (group.isRoot()) return app.exit(e);  // 0 for --help and --version, CLI11's non-zero code for a flag error
     std::ostringstream quiet;
     return app.exit(e, quiet, quiet);
   }
+  const std::string where = group.isShared() ? fmt::format(" (rank {} of {})", group.rank(), group.size()) : std::string();
   try {
     return body();
-  } catch (const GroupFailure& e) {
-    if (*e.what())
-      fmt::print(stderr, "{}: error (rank {} of {}): {}\n", app.get_name(), group.rank(), group.size(), errorLine(e.what()));
+  } catch (const GroupFailure& e) {  // agreed by every rank: printed by the one it happened on
+    if (*e.what()) fmt::print(stderr, "{}: error{}: {}\n", app.get_name(), where, errorLine(e.what()));
     return 1;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "{}: error (rank {} of {}): {}\n", app.get_name(), group.rank(), group.size(), errorLine(e.what()));
-    std::fflush(stderr);
-    group.abortJob(1);
+    fmt::print(stderr, "{}: error{}: {}\n", app.get_name(), where, errorLine(e.what()));
+    if (group.isShared()) {  // the other ranks would wait for this one forever
+      std::fflush(stderr);
+      group.abortJob(1);
+    }
     return 1;
   }
 }

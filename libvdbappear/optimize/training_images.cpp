@@ -1,6 +1,5 @@
 #include "libvdbappear/optimize/training_images.h"
 
-#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/version.h"
 
@@ -68,8 +67,7 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
                                                  TrainingScenes& reduced, const TrainingRenderSettings& settings,
                                                  const ReferenceCache& cache,
                                                  const std::function<void(std::size_t)>& on_image) {
-  const SoloProcessGroup solo;
-  const ProcessGroup& group = reduced.group() ? *reduced.group() : solo;
+  const ProcessGroup& group = reduced.group();
   std::vector<TrainingImage> images;
   for (std::size_t i = 0; i < reduced.size(); ++i) {
     TrainingImage image;
@@ -96,7 +94,7 @@ std::vector<TrainingImage> prepareTrainingImages(std::shared_ptr<const MediumVie
     } else {
       const RenderScene scene = sceneOf(full, image.config);
       RenderSettings render_settings = trainingRenderSettings(view, settings.reference_spp, settings.reference_seed, settings.path);
-      render_settings.group = reduced.group();
+      render_settings.group = &group;
       const RenderResult r = renderImage(scene, PinholeCamera(view.pose, view.width, view.height), render_settings);
       reference = {view.width, view.height, {}};
       for (std::size_t p = 0; p < r.alpha.size(); ++p)

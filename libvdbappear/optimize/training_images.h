@@ -7,6 +7,7 @@
 // normalisation c_r = 1 / max(mean(I_r), 0.05) per channel (Eq. 14), from a render that is cached
 // on disk (optimize/reference_cache.h). Light header.
 
+#include "libvdbappear/cluster/process_group.h"
 #include "libvdbappear/optimize/reference_cache.h"
 #include "libvdbappear/optimize/restricted_means.h"
 #include "libvdbappear/optimize/training_set.h"
@@ -46,7 +47,7 @@ class TrainingScenes {
                  const ProcessGroup* group = nullptr);
   std::size_t size() const { return configs_.size(); }
   const TrainingConfig& config(std::size_t i) const { return configs_[i]; }
-  const ProcessGroup* group() const { return group_; }
+  const ProcessGroup& group() const { return group_ ? *group_ : solo_; }
   // Renders configuration i with the lobe weights scaled by `scales` (null: as stored), shared by
   // the group.
   RenderResult render(std::size_t i, RenderSettings settings, std::shared_ptr<const LobeWeightScales> scales);
@@ -55,6 +56,7 @@ class TrainingScenes {
   std::vector<TrainingConfig> configs_;
   std::vector<RenderScene> scenes_;
   const ProcessGroup* group_;
+  SoloProcessGroup solo_;  // the group when none is given
 };
 
 // The cache key of the reference of `config`: a hash of the full medium's content hash and every

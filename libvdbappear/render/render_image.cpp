@@ -192,9 +192,10 @@ class SamplePass {
   tbb::enumerable_thread_specific<ThreadState>& threads_;
 };
 
-// A pass by this process alone: TBB's blocks of 8 x 8 pixels.
+// A pass by this process alone: TBB's blocks of about a tile.
 void renderPassAlone(const SamplePass& pass, int width, int height, ProgressBar* progress) {
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 8, 0, width, 8), [&](const auto& block) {
+  constexpr int kGrain = kRenderTileSize;
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kGrain, 0, width, kGrain), [&](const auto& block) {
     pass.renderPixels(block.cols().begin(), block.cols().end(), block.rows().begin(), block.rows().end());
     if (progress) progress->advance(std::uint64_t(block.rows().size()) * block.cols().size() * pass.samples());
   });
@@ -268,10 +269,8 @@ void renderPass(const RenderScene& scene, const PinholeCamera& camera, const Ren
     renderPassAlone(pass, settings.width, settings.height, progress);
 }
 
-// Each rank's RankWork, on every rank.
-std::vector<RankWork> everyRanksWork(const ProcessGroup& group, RankWork work,
-                                     const tbb::enumerable_thread_specific<ThreadState>& threads) {
-  for (const ThreadState& state : threads) work.paths += state.paths;
+// Each rank's RankWork (its paths counted by sumStatistics), on every rank.
+std::vector<RankWork> everyRanksWork(const ProcessGroup& group, const RankWork& work) {
   const std::size_t n = std::size_t(group.size()), r = std::size_t(group.rank());
   std::vector<std::uint64_t> paths(n, 0);
   std::vector<double> seconds(3 * n, 0.0);
@@ -293,9 +292,9 @@ std::int64_t nextPassSize(const RenderSettings& settings, double elapsed, int do
   return std::int64_t(std::clamp(affordable, 1.0, double(settings.spp - done)));
 }
 
-// Counts of every rank's threads, summed over the group.
+// Counts of every rank's threads, summed over the group; this rank's own paths into `work`.
 void sumStatistics(const tbb::enumerable_thread_specific<ThreadState>& threads, const ProcessGroup* group,
-                   RenderResult* result) {
+                   RankWork* work, RenderResult* result) {
   std::uint64_t counts[4] = {0, 0, 0, 0};
   for (const ThreadState& state : threads) {
     counts[0] += state.paths;
@@ -304,6 +303,7 @@ void sumStatistics(const tbb::enumerable_thread_specific<ThreadState>& threads, 
     counts[2] += state.lookup->stats().tentative_collisions;
     counts[3] += state.lookup->stats().majorant_violations;
   }
+  work->paths = counts[0];
   if (group) group->sum(counts, 4);
   result->paths = counts[0];
   result->scattering_events = counts[1];
@@ -378,8 +378,8 @@ RenderResult renderImage(const RenderScene& scene, const PinholeCamera& camera, 
     work.sum_seconds = sum_clock.seconds();
   }
   film.resolve(done, &result);
-  sumStatistics(threads, settings.group, &result);
-  if (settings.group && settings.group->isShared()) result.ranks = everyRanksWork(*settings.group, work, threads);
+  sumStatistics(threads, settings.group, &work, &result);
+  if (settings.group && settings.group->isShared()) result.ranks = everyRanksWork(*settings.group, work);
   result.seconds = clock.seconds();
   return result;
 }
