@@ -1,6 +1,7 @@
 #include "libvdbappear/prefilter/prefiltered_brdf.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -19,16 +20,30 @@ const MultiLobeBrdf& PrefilteredBrdf::cellAt(const Point2& x) const {
 }
 
 Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const {
-  const Rgb f = cellAt(x).eval(wi, wo);
-  return (f == 0).all() ? f : Rgb(scaling_(x, wi, wo) * f);
+  const MultiLobeBrdf& f = cellAt(x);
+  const Rgb projected = f.projected(wi, wo);
+  if ((projected == 0).all()) return projected;
+  return scaling_(x, wi, wo) * projected * MultiLobeBrdf::inverseCosine(wi.z());
 }
 
+// Above the horizon the lobes' own draws; below it, with probability kBelowHorizonShare, those
+// draws mirrored in the base plane (f'_low's lobes reach below the horizon only as far as their
+// facets tilt, which the mirrored draws cover).
 BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const {
-  BrdfSample s = cellAt(x).sample(wo, u_lobe, u);
-  if (s.pdf > 0) s.weight *= scaling_(x, s.wi, wo);
+  const bool below = u_lobe < kBelowHorizonShare;
+  u_lobe = below ? u_lobe / kBelowHorizonShare : (u_lobe - kBelowHorizonShare) / (1 - kBelowHorizonShare);
+  BrdfSample s = cellAt(x).sampleLobes(wo, std::min(u_lobe, 1 - 1e-16), u);
+  if (!(s.pdf > 0) || !(s.wi.z() > 0)) return {};
+  if (below) s.wi.z() = -s.wi.z();
+  s.pdf = pdf(x, wo, s.wi);
+  s.weight = eval(x, s.wi, wo) * (std::abs(s.wi.z()) / s.pdf);
   return s;
 }
 
-double PrefilteredBrdf::pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const { return cellAt(x).pdf(wo, wi); }
+double PrefilteredBrdf::pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const {
+  const MultiLobeBrdf& f = cellAt(x);
+  if (wi.z() < 0) return kBelowHorizonShare * f.lobePdf(wo, Vec3(wi.x(), wi.y(), -wi.z()));
+  return wi.z() > 0 ? (1 - kBelowHorizonShare) * f.lobePdf(wo, wi) : 0.0;
+}
 
 }  // namespace vdbappear

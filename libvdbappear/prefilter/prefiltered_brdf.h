@@ -16,10 +16,19 @@ class PrefilteredBrdf {
  public:
   PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base);
 
-  // x: the base position on the map, in [0,1]^2 (clamped).
+  // The share of sample()'s directions drawn below the base horizon.
+  static constexpr double kBelowHorizonShare = 1.0 / 16;
+
+  // x: the base position on the map, in [0,1]^2 (clamped). Directions below the base horizon,
+  // which a curved base (a shell over a sphere) shows beyond its terminator and at its silhouette,
+  // are not cut off as Eq. (4.5) on a plane may: f'_low's lobes reach there as far as their facets
+  // tilt (MultiLobeBrdf::projected, the limited 1 / cos theta_i of the horizon), and S is read at
+  // the horizon. On a plane the map itself shadows and masks them.
   Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo) const;
-  BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const;  // wi by f'_low
-  double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;
+  // wi by f'_low's lobes, and with probability kBelowHorizonShare such a draw mirrored below the
+  // horizon; weight = eval |cos theta_i| / pdf.
+  BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const;
+  double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
 
  private:
   const MultiLobeBrdf& cellAt(const Point2& x) const;

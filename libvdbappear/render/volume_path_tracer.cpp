@@ -55,13 +55,24 @@ struct VolumePathTracer::Vertex {
   Frame map_frame;  // the map's base frame at p (world axes on a plane, the tangent frame on a shell)
   int level = 0;  // the path's level of detail (render/level_of_detail.h)
 
+  bool camera_view = false;  // reached by the camera ray, or by its mirror reflections
+
   bool lambertian() const { return on_surface && !brdf && !prefiltered; }
+  // A direction below a prefiltered map's base horizon, which a curved base shows beyond its
+  // terminator and at its silhouette (prefilter/prefiltered_brdf.h).
+  bool belowBaseHorizon(const Vec3& w) const { return on_surface && prefiltered && map_frame.n.dot(w) < 0; }
+  // Whether the prefiltered map's light reaches where the path came from: light that leaves below
+  // the base horizon is shown to the camera only. The flat map's tables end the light between
+  // coarse cells there (their paths as this renderer traces them), so a path that met the map
+  // from below its horizon after a bounce would count that light twice.
+  bool reflectsBack() const { return camera_view || !belowBaseHorizon(wi); }
   Rgb eval(const Vec3& wo) const {
     if (!on_surface) return medium.eval(wi, wo);
     const double cos_o = std::max(0.0, normal.dot(wo));
     if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
     if (prefiltered)
-      return cos_o > 0 ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o) : Rgb(Rgb::Zero());
+      return cos_o > 0 && reflectsBack() ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o)
+                                         : Rgb(Rgb::Zero());
     return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
@@ -69,7 +80,7 @@ struct VolumePathTracer::Vertex {
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const {
     if (!on_surface) return medium.pdf(wi, wo);
-    if (prefiltered) return prefiltered->pdf(map_x, map_frame.toLocal(wi), map_frame.toLocal(wo));
+    if (prefiltered) return reflectsBack() ? prefiltered->pdf(map_x, map_frame.toLocal(wi), map_frame.toLocal(wo)) : 0.0;
     return brdf ? brdf->pdf(frame.toLocal(wi), frame.toLocal(wo)) : cosineHemispherePdf(normal.dot(wo));
   }
   // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
@@ -82,6 +93,7 @@ struct VolumePathTracer::Vertex {
       return {frame.toWorld(s.wi), s.pdf, s.weight};
     }
     if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
+      if (!reflectsBack()) return {wi, 0, Rgb::Zero()};
       const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u);
       const Vec3 wo = map_frame.toWorld(s.wi);
       if (!(s.pdf > 0)) return {wo, 0, Rgb::Zero()};
@@ -198,6 +210,9 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   const double eps = scene_.ray_epsilon;
   bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
   double mirror_reflectance = 1;  // of the camera ray's mirror reflections so far; 0 once a path scatters otherwise
+  // The path left a prefiltered map below its base horizon: only a light, not a surface or a
+  // medium, is seen along it (the flat map's tables hold no light between coarse cells from there).
+  bool lights_only = false;
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   vertex.level = pathLevel(scene_.mipmaps, ray, rng);
   for (int depth = 0;; ++depth) {
@@ -211,6 +226,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
 
     vertex.wi = -ray.d;
     vertex.on_surface = false;
+    if (lights_only && (t_medium || (hit && hit->light < 0))) break;
     if (t_medium) {
       vertex.p = ray(*t_medium);
       if (camera_ray) {
@@ -264,6 +280,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
         const PrefilteredPlacement::MapPoint at = placement.mapPoint(vertex.p);
         vertex.map_x = at.position;
         vertex.map_frame = at.frame;
+        vertex.camera_view = mirror_reflectance > 0;
       }
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);
@@ -284,6 +301,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     beta *= s.weight;
     prev_pdf = s.pdf;
     prev_specular = false;
+    lights_only = vertex.belowBaseHorizon(s.wo);
     mirror_reflectance = 0;
     ray = {vertex.p, s.wo};
     if (!survivesRoulette(depth, rng, &beta, gradients)) break;

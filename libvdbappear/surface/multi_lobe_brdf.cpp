@@ -29,15 +29,21 @@ MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base) 
   }
 }
 
-Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
-  if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
+double MultiLobeBrdf::inverseCosine(double cos_theta_i) { return 1 / std::max(cos_theta_i, kMinCosTheta); }
+
+Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
   Rgb sum = Rgb::Zero();
   for (const Lobe& l : lobes_) {
     const double cos_i = l.frame.n.dot(wi);  // <mu_k, wi>
     if (cos_i <= 0) continue;
     sum += l.brdf.eval(l.frame.toLocal(wo), l.frame.toLocal(wi)) * (l.amplitude * cos_i);
   }
-  return sum / std::max(wi.z(), kMinCosTheta);
+  return sum;
+}
+
+Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
+  if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
+  return projected(wi, wo) * inverseCosine(wi.z());
 }
 
 bool MultiLobeBrdf::lobeProbabilities(const Vec3& wo, double* probability) const {
@@ -54,18 +60,22 @@ bool MultiLobeBrdf::lobeProbabilities(const Vec3& wo, double* probability) const
   return true;
 }
 
-double MultiLobeBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
+double MultiLobeBrdf::lobePdf(const Vec3& wo, const Vec3& wi) const {
   double probability[kMaxLobes];
-  if (wo.z() <= 0 || wi.z() <= 0 || !lobeProbabilities(wo, probability)) return 0;
+  if (!lobeProbabilities(wo, probability)) return 0;
   double density = 0;
   for (std::size_t k = 0; k < lobes_.size(); ++k)
     if (probability[k] > 0) density += probability[k] * lobes_[k].brdf.pdf(lobes_[k].frame.toLocal(wo), lobes_[k].frame.toLocal(wi));
   return density;
 }
 
-BrdfSample MultiLobeBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u) const {
+double MultiLobeBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
+  return wo.z() <= 0 || wi.z() <= 0 ? 0 : lobePdf(wo, wi);
+}
+
+BrdfSample MultiLobeBrdf::sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const {
   double probability[kMaxLobes];
-  if (wo.z() <= 0 || !lobeProbabilities(wo, probability)) return {};
+  if (!lobeProbabilities(wo, probability)) return {};
   std::size_t k = 0;
   while (k + 1 < lobes_.size() && u_lobe >= probability[k]) u_lobe -= probability[k++];
   u_lobe = std::min(u_lobe / probability[k], 1 - 1e-16);  // reused for the base BRDF's lobe choice
@@ -74,9 +84,15 @@ BrdfSample MultiLobeBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u)
   BrdfSample s;
   if (!(local.pdf > 0)) return s;
   s.wi = l.frame.toWorld(local.wi);
-  if (s.wi.z() <= 0) return s;  // below the macro-surface: absorbed
-  s.pdf = pdf(wo, s.wi);
-  if (s.pdf > 0) s.weight = eval(s.wi, wo) * (s.wi.z() / s.pdf);
+  s.pdf = lobePdf(wo, s.wi);
+  return s;
+}
+
+BrdfSample MultiLobeBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u) const {
+  if (wo.z() <= 0) return {};
+  BrdfSample s = sampleLobes(wo, u_lobe, u);
+  if (!(s.pdf > 0) || s.wi.z() <= 0) return {};  // below the macro-surface: absorbed
+  s.weight = eval(s.wi, wo) * (s.wi.z() / s.pdf);
   return s;
 }
 

@@ -35,6 +35,16 @@ class MultiLobeBrdf {
   BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
 
+  // The same pieces with no macro-surface horizon, for a base that curves below it
+  // (prefilter/prefiltered_brdf.h): Eq. (4.5)'s integrand summed over the lobes,
+  //   rho cos theta_i = sum_k alpha_k <mu_k, wi>+ f_k(R_mu_k(wi), R_mu_k(wo)),
+  // the lobe choice and f_k's own sampling (wi anywhere f_k reaches), and that sampling's density.
+  Rgb projected(const Vec3& wi, const Vec3& wo) const;
+  BrdfSample sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const;  // weight not filled
+  double lobePdf(const Vec3& wo, const Vec3& wi) const;
+
+  // 1 / cos theta_i of Eq. (4.5) as eval() limits it.
+  static double inverseCosine(double cos_theta_i);
   // alpha' of a lobe of bandwidth kappa over a base roughness alpha (capped at 1).
   static double widenedRoughness(double alpha, double kappa);
 

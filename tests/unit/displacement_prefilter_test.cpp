@@ -2,16 +2,20 @@
 // the displacement chapter): a flat map needs no scaling (T = S = 1); on a bumpy Lambertian map
 // interreflection only adds light (S_ir >= S bin by bin, the same base positions); bad settings throw.
 #include "libvdbappear/prefilter/displacement_prefilter.h"
+#include "libvdbappear/prefilter/prefiltered_brdf.h"
 #include "libvdbappear/prefilter/prefiltered_surface_file.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/chi2_test.h"
 #include "support/height_fields.h"
+#include "support/test_random.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -76,6 +80,59 @@ TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
   DisplacementPrefilterSettings s = smallSettings();
   s.factor = 6;
   EXPECT_THROW(prefilterDisplacement(HeightField(32, 32, 0.01), base, s), std::invalid_argument);
+}
+
+// The renderer's SVBRDF (prefilter/prefiltered_brdf.h) on a curved base: sample() draws wi with the
+// density pdf() over the whole sphere, f'_low's lobes above the base horizon and their mirror
+// images below it, for a view above the horizon and one below it (a sphere's silhouette); its
+// weight is eval |cos theta_i| / pdf; eval is continuous across the horizon and lights facets
+// below it (a plane's map would shadow them; beyond a sphere's terminator they are lit).
+TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
+  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
+  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, smallSettings()), base);
+  const Point2 x(0.3, 0.6);
+  test::TestRandom random(5);
+  std::uint64_t seed = 40;
+  for (const Vec3& wo : {Vec3(0.3, 0.1, 1).normalized(), Vec3(0.95, 0.2, -0.04).normalized()}) {
+    double u_lobe = 0;
+    test::Chi2Options o;
+    o.test_count = 2;
+    o.seed = ++seed;
+    o.sample_count = 200'000;
+    o.bins.tolerance = 1e-5;
+    o.bins.max_depth = 4;
+    o.absorbed_samples = true;
+    const test::Chi2Result r = test::chi2TestDirections(
+        [&](const Point2& u) {
+          u_lobe = std::fmod(u_lobe + 0.6180339887498949, 1.0);
+          const BrdfSample s = f.sample(x, wo, u_lobe, u);
+          return s.pdf > 0 ? s.wi : Vec3(0, 0, 0);
+        },
+        [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, o);
+    EXPECT_TRUE(r.passed) << r.summary;
+    EXPECT_LT(r.invalid_fraction, 0.5) << r.summary;  // the view below the horizon is reflected too
+    int below = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      const BrdfSample s = f.sample(x, wo, random.uniform(), random.point2());
+      if (s.pdf == 0) continue;
+      below += s.wi.z() < 0;
+      const Rgb expected = f.eval(x, s.wi, wo) * std::abs(s.wi.z()) / f.pdf(x, wo, s.wi);
+      EXPECT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.maxCoeff()));
+    }
+    EXPECT_GT(below, 5);
+    EXPECT_LT(below, 60);  // 1/16 of 400 draws, where the lobes reach
+  }
+  double lit_below = 0;
+  for (int k = 0; k < 16; ++k) {
+    const double phi = 2 * M_PI * k / 16, wo_z = 0.6;
+    const Vec3 wo(0.8 * std::cos(phi + 2), 0.8 * std::sin(phi + 2), wo_z);
+    const auto at = [&](double z) -> Vec3 { return Vec3(std::cos(phi), std::sin(phi), 0) * std::sqrt(1 - z * z) + Vec3(0, 0, z); };
+    const Rgb above = f.eval(x, at(1e-7), wo), across = f.eval(x, at(-1e-7), wo);
+    EXPECT_LT((above - across).abs().maxCoeff(), 1e-4 * (1e-9 + above.maxCoeff())) << phi;
+    lit_below += f.eval(x, at(-0.1), wo).maxCoeff();
+  }
+  EXPECT_GT(lit_below, 0);
 }
 
 // docs/displacement.md §6: what is written is read back, to float precision, with the BRDF and the
