@@ -15,7 +15,9 @@ Fig. 4.18) and each downsampling factor of --factors:
      multi-lobe h_low with f'_low alone (the scaling left out),
      full       h_low with f_low = T S f'_low,
    side by side with false-colour error maps (Fig. 4.16-4.17). The gate: the full model's relative
-   error in mean intensity is at most one third of naive's and at most 3%.
+   error in mean intensity is at most one third of naive's and at most 3%. On the ball, the error
+   split by region of its base sphere: beyond the terminator, under a grazing sun, under a high sun,
+   past the silhouette (sphere_regions.py).
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
@@ -39,9 +41,12 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
 """
 import argparse
 import json
+import math
 import pathlib
 import subprocess
 import time
+
+import sphere_regions
 
 BRDF = {"distribution": "ggx", "roughness": 0.3, "specular": 0.04, "diffuse": [0.7, 0.55, 0.4]}
 # The chapter's sampling rates are the tool's defaults; "quick" trades them for minutes (reported),
@@ -72,6 +77,7 @@ GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": 
 # The ball: bumps over a sphere of 8 tiles of width 1 around the equator (radius 1.27).
 BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
         "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
+BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
 
 
 def map_kind(surface):
@@ -154,11 +160,33 @@ def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=
     return image, time.time() - start
 
 
-def compare(build, reference, test, error_map=None):
+def compare(build, reference, test, error_map=None, mask=None):
     cmd = [tool(build, "vdb_image_compare"), reference, test, "--report", "-", "--range", "0.5"]
     if error_map:
         cmd += ["--error-map", error_map, "--side-by-side", str(error_map).replace("error", "sbs")]
+    if mask:
+        cmd += ["--mask", mask]
     return json.loads(run(cmd))
+
+
+def ball_regions(args, out, lighting, reference, images):
+    """The ball's error by region of its base sphere (sphere_regions.py): per region its pixels, its
+    share of the reference's light, and per model the relative error there and its part of the image
+    mean's relative error (the parts add up to it)."""
+    width, height = [int(v) for v in args.res.split("x")]
+    masks = sphere_regions.region_masks(out, f"ball_{lighting}", BALL["camera"], BALL["placement"]["sphere"],
+                                        BALL_RADIUS, SUN["direction"], width, height)
+    whole = compare(args.build, reference, reference)["mean_reference"] * width * height
+    regions = []
+    for name, mask, pixels in masks:
+        region = {"region": name, "pixels": pixels}
+        for model, image in images.items():
+            c = compare(args.build, reference, image, mask=mask)
+            region["share"] = c["mean_reference"] * pixels / whole
+            region[model] = {"error": c["mean_relative_error"],
+                             "part": (c["mean_test"] - c["mean_reference"]) * pixels / whole}
+        regions.append(region)
+    return regions
 
 
 def study(args, out, surface, factor, rows, timing_rows):
@@ -175,11 +203,14 @@ def study(args, out, surface, factor, rows, timing_rows):
                               height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref,
                               reuse=args.rendered, camera=camera)
         row = {"surface": surface, "factor": factor, "lighting": lighting}
+        images = {}
         for model in ("naive", "multi-lobe", "full"):
-            image, _ = render(args.build, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting, res,
-                              spp=args.spp, camera=camera)
-            c = compare(args.build, reference, image, out / f"{tag}_{model}_error.png")
+            images[model], _ = render(args.build, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting,
+                                      res, spp=args.spp, camera=camera)
+            c = compare(args.build, reference, images[model], out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
+        if surface == "ball":
+            row["regions"] = ball_regions(args, out, lighting, reference, images)
         naive, full = abs(row["naive"]), abs(row["full"])
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
@@ -286,6 +317,19 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
     for r in rows:
         lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {r['multi-lobe']:+.2%} |"
                      f" {r['full']:+.2%} | {'pass' if r['passed'] else 'fail'} |")
+    ball_rows = [r for r in rows if "regions" in r]
+    if ball_rows:
+        lines += ["", "## The ball's error by region", "",
+                  "Pixels by where their camera ray meets the base sphere (scripts/sphere_regions.py): by the cosine "
+                  "between its normal there and the sun, or past its silhouette (the bumps' rim). Per region: its share "
+                  "of the reference's light; per model the relative error of the region's mean, and in parentheses "
+                  "its part of the image mean's relative error (the parts add up to the table above).", "",
+                  "| factor | light | region | pixels | share | naive | multi-lobe | full |", "|---|---|---|---|---|---|---|---|"]
+        for r in ball_rows:
+            for g in r["regions"]:
+                lines.append(f"| {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | {g['share']:.1%} | " +
+                             " | ".join(f"{g[m]['error']:+.1%} ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
+                             + " |")
     lines += ["", "## Equal time (global illumination)", "",
               f"RMSE against a reference of {args.spp_ref} spp (another seed), each model rendered for "
               f"{args.equal_time} s.", "", "| surface | factor | original RMSE (spp) | full model RMSE (spp) | lower |",
