@@ -169,22 +169,25 @@ def compare(build, reference, test, error_map=None, mask=None):
     return json.loads(run(cmd))
 
 
-def ball_regions(args, out, lighting, reference, images):
+def ball_regions(args, out, lighting, reference, images, reference_mean):
     """The ball's error by region of its base sphere (sphere_regions.py): per region its pixels, its
-    share of the reference's light, and per model the relative error there and its part of the image
-    mean's relative error (the parts add up to it)."""
+    share of the reference's light, and per model the relative error there (None where the reference
+    is black) and its part of the image mean's relative error (the parts add up to it). The regions
+    follow SUN, which both lightings hold."""
     width, height = [int(v) for v in args.res.split("x")]
     masks = sphere_regions.region_masks(out, f"ball_{lighting}", BALL["camera"], BALL["placement"]["sphere"],
                                         BALL_RADIUS, SUN["direction"], width, height)
-    whole = compare(args.build, reference, reference)["mean_reference"] * width * height
+    whole = reference_mean * width * height
     regions = []
     for name, mask, pixels in masks:
+        if pixels == 0 or whole <= 0:
+            continue
         region = {"region": name, "pixels": pixels}
         for model, image in images.items():
             c = compare(args.build, reference, image, mask=mask)
-            region["share"] = c["mean_reference"] * pixels / whole
-            region[model] = {"error": c["mean_relative_error"],
+            region[model] = {"error": c["mean_relative_error"] if c["mean_reference"] > 0 else None,
                              "part": (c["mean_test"] - c["mean_reference"]) * pixels / whole}
+        region["share"] = c["mean_reference"] * pixels / whole  # the reference's, the same in every compare
         regions.append(region)
     return regions
 
@@ -210,7 +213,7 @@ def study(args, out, surface, factor, rows, timing_rows):
             c = compare(args.build, reference, images[model], out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
         if surface == "ball":
-            row["regions"] = ball_regions(args, out, lighting, reference, images)
+            row["regions"] = ball_regions(args, out, lighting, reference, images, c["mean_reference"])
         naive, full = abs(row["naive"]), abs(row["full"])
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
@@ -328,7 +331,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         for r in ball_rows:
             for g in r["regions"]:
                 lines.append(f"| {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | {g['share']:.1%} | " +
-                             " | ".join(f"{g[m]['error']:+.1%} ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
+                             " | ".join(("n/a" if g[m]["error"] is None else f"{g[m]['error']:+.1%}") +
+                                        f" ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
                              + " |")
     lines += ["", "## Equal time (global illumination)", "",
               f"RMSE against a reference of {args.spp_ref} spp (another seed), each model rendered for "

@@ -23,19 +23,21 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const
   const MultiLobeBrdf& f = cellAt(x);
   const Rgb projected = f.projected(wi, wo);
   if ((projected == 0).all()) return projected;
-  return scaling_(x, wi, wo) * projected * MultiLobeBrdf::inverseCosine(wi.z());
+  return scaling_(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
 }
 
 // Above the horizon the lobes' own draws; below it, with probability kBelowHorizonShare, those
-// draws mirrored in the base plane (f'_low's lobes reach below the horizon only as far as their
-// facets tilt, which the mirrored draws cover).
+// draws mirrored in the base plane. f'_low's lobes reach below the horizon only as far as their
+// facets tilt (a height field's micro-normals, so every mu_k, face up), and wherever a lobe's
+// <mu_k, wi> > 0 below the horizon it is also > 0 at wi's mirror image, which the mirrored draws
+// cover. Draws of a lobe that land below the horizon are not kept: pdf() leaves them out.
 BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const {
   const bool below = u_lobe < kBelowHorizonShare;
   u_lobe = below ? u_lobe / kBelowHorizonShare : (u_lobe - kBelowHorizonShare) / (1 - kBelowHorizonShare);
   BrdfSample s = cellAt(x).sampleLobes(wo, std::min(u_lobe, 1 - 1e-16), u);
   if (!(s.pdf > 0) || !(s.wi.z() > 0)) return {};
   if (below) s.wi.z() = -s.wi.z();
-  s.pdf = pdf(x, wo, s.wi);
+  s.pdf *= below ? kBelowHorizonShare : 1 - kBelowHorizonShare;  // pdf(x, wo, s.wi): the mirror is exact
   s.weight = eval(x, s.wi, wo) * (std::abs(s.wi.z()) / s.pdf);
   return s;
 }

@@ -22,8 +22,9 @@ class PrefilteredBrdf {
   // x: the base position on the map, in [0,1]^2 (clamped). Directions below the base horizon,
   // which a curved base (a shell over a sphere) shows beyond its terminator and at its silhouette,
   // are not cut off as Eq. (4.5) on a plane may: f'_low's lobes reach there as far as their facets
-  // tilt (MultiLobeBrdf::projected, the limited 1 / cos theta_i of the horizon), and S is read at
-  // the horizon. On a plane the map itself shadows and masks them.
+  // tilt (MultiLobeBrdf::projected over the limited cos theta_i of the horizon), and S is read at
+  // the horizon. On a plane the map itself shadows and masks them. Only the lights' own light
+  // counts there (render/volume_path_tracer.cpp, Vertex::reflectsBack; docs/displacement.md §8).
   Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo) const;
   // wi by f'_low's lobes, and with probability kBelowHorizonShare such a draw mirrored below the
   // horizon; weight = eval |cos theta_i| / pdf.

@@ -62,17 +62,17 @@ struct VolumePathTracer::Vertex {
   // terminator and at its silhouette (prefilter/prefiltered_brdf.h).
   bool belowBaseHorizon(const Vec3& w) const { return on_surface && prefiltered && map_frame.n.dot(w) < 0; }
   // Whether the prefiltered map's light reaches where the path came from: light that leaves below
-  // the base horizon is shown to the camera only. The flat map's tables end the light between
-  // coarse cells there (their paths as this renderer traces them), so a path that met the map
-  // from below its horizon after a bounce would count that light twice.
+  // the base horizon is shown to the camera only. R_ir's denominator ended the model's paths
+  // between coarse cells there, and S_ir restores the original's interreflection over what they
+  // carry, so a path that met the map from below its horizon after a bounce would count it twice.
+  // For the same reason a path that leaves the map below its horizon sees lights only (trace()).
   bool reflectsBack() const { return camera_view || !belowBaseHorizon(wi); }
   Rgb eval(const Vec3& wo) const {
     if (!on_surface) return medium.eval(wi, wo);
     const double cos_o = std::max(0.0, normal.dot(wo));
     if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
     if (prefiltered)
-      return cos_o > 0 && reflectsBack() ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o)
-                                         : Rgb(Rgb::Zero());
+      return cos_o > 0 ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o) : Rgb(Rgb::Zero());
     return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
@@ -80,7 +80,7 @@ struct VolumePathTracer::Vertex {
   const ScatteringFunction* scattering() const { return on_surface ? nullptr : &medium; }
   double pdf(const Vec3& wo) const {
     if (!on_surface) return medium.pdf(wi, wo);
-    if (prefiltered) return reflectsBack() ? prefiltered->pdf(map_x, map_frame.toLocal(wi), map_frame.toLocal(wo)) : 0.0;
+    if (prefiltered) return prefiltered->pdf(map_x, map_frame.toLocal(wi), map_frame.toLocal(wo));
     return brdf ? brdf->pdf(frame.toLocal(wi), frame.toLocal(wo)) : cosineHemispherePdf(normal.dot(wo));
   }
   // per_lobe (media): each lobe's term W_j f_j at the sampled direction (for gradient images).
@@ -93,7 +93,6 @@ struct VolumePathTracer::Vertex {
       return {frame.toWorld(s.wi), s.pdf, s.weight};
     }
     if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
-      if (!reflectsBack()) return {wi, 0, Rgb::Zero()};
       const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u);
       const Vec3 wo = map_frame.toWorld(s.wi);
       if (!(s.pdf > 0)) return {wo, 0, Rgb::Zero()};
@@ -163,8 +162,9 @@ Rgb VolumePathTracer::sampleDirect(const Vertex& vertex, bool from_grid, RandomS
 
 // The area lights' direct light from the SH grid (dissertation ch. 5), by Funk-Hecke where it has
 // a closed form, so with no variance: on a diffuse surface albedo E(n) / pi; in a medium of
-// isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables) one direction
-// sampled from the scattering function, weight f / pdf times the SH radiance. With sh_shadows, times
+// isotropic and HG lobes sum_j W_j sum_l g_j^l B_l(-wi). Otherwise (SGGX, tables, glossy and
+// prefiltered surfaces) one direction sampled from the scattering function or BRDF, weight f / pdf
+// times the SH radiance. With sh_shadows, times
 // the medium's transmittance toward the grid's dominant direction, or along the sampled direction
 // where there is one (surfaces do not shadow the grid's light).
 Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, MediumLookup* lookup) const {
@@ -174,8 +174,9 @@ Rgb VolumePathTracer::shGridDirect(const Vertex& vertex, RandomStream& rng, Medi
   Vec3 shadow_direction = Vec3::Zero();
   if (vertex.lambertian()) {
     L = vertex.albedo * shIrradiance(coeffs, clamped_cosine_, vertex.normal).array() / kPi;
-  } else if (const std::optional<Rgb> closed_form = shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
-    L = *closed_form;
+  } else if (const std::optional<Rgb> closed_form =
+                 vertex.on_surface ? std::nullopt : shSingleScattering(vertex.medium, coeffs, grid.lmax(), vertex.wi)) {
+    L = *closed_form;  // media only: a glossy surface's vertex holds no scattering function
   } else {
     const ScatterSample s = vertex.sample(rng);
     if (!(s.pdf > 0)) return Rgb::Zero();
@@ -211,7 +212,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
   double mirror_reflectance = 1;  // of the camera ray's mirror reflections so far; 0 once a path scatters otherwise
   // The path left a prefiltered map below its base horizon: only a light, not a surface or a
-  // medium, is seen along it (the flat map's tables hold no light between coarse cells from there).
+  // medium, is seen along it (Vertex::reflectsBack says why).
   bool lights_only = false;
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   vertex.level = pathLevel(scene_.mipmaps, ray, rng);
@@ -281,6 +282,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
         vertex.map_x = at.position;
         vertex.map_frame = at.frame;
         vertex.camera_view = mirror_reflectance > 0;
+        if (!vertex.reflectsBack()) break;  // no light leaves toward a path from below the horizon
       }
     } else {
       const Rgb escaped = escapedRadiance(ray, prev_pdf, unweighted);

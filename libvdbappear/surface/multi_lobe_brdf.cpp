@@ -29,7 +29,7 @@ MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base) 
   }
 }
 
-double MultiLobeBrdf::inverseCosine(double cos_theta_i) { return 1 / std::max(cos_theta_i, kMinCosTheta); }
+double MultiLobeBrdf::limitedCosine(double cos_theta_i) { return std::max(cos_theta_i, kMinCosTheta); }
 
 Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
   Rgb sum = Rgb::Zero();
@@ -43,7 +43,7 @@ Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
 
 Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
   if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
-  return projected(wi, wo) * inverseCosine(wi.z());
+  return projected(wi, wo) / limitedCosine(wi.z());
 }
 
 bool MultiLobeBrdf::lobeProbabilities(const Vec3& wo, double* probability) const {

@@ -43,8 +43,8 @@ class MultiLobeBrdf {
   BrdfSample sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const;  // weight not filled
   double lobePdf(const Vec3& wo, const Vec3& wi) const;
 
-  // 1 / cos theta_i of Eq. (4.5) as eval() limits it.
-  static double inverseCosine(double cos_theta_i);
+  // cos theta_i as Eq. (4.5)'s division by it is limited in eval() (to 0.1, 84 degrees).
+  static double limitedCosine(double cos_theta_i);
   // alpha' of a lobe of bandwidth kappa over a base roughness alpha (capped at 1).
   static double widenedRoughness(double alpha, double kappa);
 

@@ -132,6 +132,25 @@ TEST(ShLightGridCli, VdbRenderLightsAGroundFromTheGridLikeTheLightItself) {
   EXPECT_EQ(json::parse(sh.out).at("sh_lightgrid").at("interpolation"), "hermite");
 }
 
+// A glossy ground (GGX 0.6) under the grid: its light from the grid by one direction sampled from
+// the BRDF, weight f / pdf times the grid's radiance, against next-event estimation of the light.
+// Measured at 256 spp over three seeds: +0.3%, -1.1%, -0.3% against NEE at 64 spp. Before the
+// glossy vertex stopped being handed to the media's closed form (a stale or empty scattering
+// function), the ground came out black: -99%.
+TEST(ShLightGridCli, VdbRenderLightsAGlossyGroundFromTheGrid) {
+  TempDir dir;
+  const std::string lights = writeFile(dir, "lights.json", R"({"lights": [{"vertices": [[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]],
+    "radiance": [4,3,2]}]})");
+  const std::string scene = writeFile(dir, "glossy.json", R"({"lights": [{"type": "polygon", "vertices": [[-0.5,-0.5,1],[-0.5,0.5,1],[0.5,0.5,1],[0.5,-0.5,1]],
+    "radiance": [4,3,2]}], "ground": {"height": 0, "brdf": {"distribution": "ggx", "roughness": 0.6, "specular": 0.04,
+    "diffuse": [0.5,0.5,0.5]}}, "camera": {"position": [0,-4,3], "target": [0,0,0]}})");
+  const std::string grid = dir.path("grid.vdb");
+  ASSERT_EQ(runCommand(kLightGrid + " --lights " + quote(lights) + " --bbox -2,-2,0,2,2,0.8 --res 9 -o " + quote(grid)).status, 0);
+  const double nee = meanPixel(runCommand(renderCommand(dir, scene, 32, "nee.exr") + " --spp 64"));
+  const double sh = meanPixel(runCommand(renderCommand(dir, scene, 32, "sh.exr") + " --spp 256 --sh-lightgrid " + quote(grid)));
+  EXPECT_NEAR(sh, nee, 0.03 * nee);
+}
+
 // The grid stands for the area lights only inside its box: a ground that reaches far beyond a grid
 // of 1.2 x 1.2 around the light's foot is lit by sampling the light out there. Measured: +0.24%
 // against next-event estimation at 64 spp (whose noise is about 0.2%); clamping lookups into the

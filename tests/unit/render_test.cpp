@@ -672,13 +672,17 @@ TEST(Surfaces, ShellMappedPrefilteredMapIsLitBeyondItsTerminator) {
   EXPECT_NEAR(model_all, original_all, 0.5 * original_all);
 }
 
-// On the ball under a sun and a sky, light sampling alone, BRDF sampling alone (f'_low's lobes and
-// their mirror images below the horizon) and MIS estimate the same image: below the horizon only
-// the lights' own light counts, by either strategy.
+// On the ball under a sun, a sky and a square light low beside it, light sampling alone, BRDF
+// sampling alone (f'_low's lobes and their mirror images below the horizon) and MIS estimate the
+// same image: below the horizon only the lights' own light counts, by either strategy. (The light
+// from below the horizon is a small part of this image: an error in the density of the mirrored
+// draws is caught by PrefilteredBrdf.SamplingFollowsItsPdfAboveAndBelowTheHorizon instead.)
 TEST(Surfaces, ShellMappedPrefilteredLightStrategiesAgree) {
   const BumpyBall ball;
   const json lights = json::array({{{"type", "sun"}, {"direction", {1.0, -0.3, -0.2}}, {"strength", 2.0}},
-                                   {{"type", "env"}, {"radiance", 0.5}}});
+                                   {{"type", "env"}, {"radiance", 0.5}},
+                                   {{"type", "quad"}, {"corner", {1.3, -1.0, -0.6}}, {"edge1", {0, 1.2, 0}},
+                                    {"edge2", {0, 0, 0.8}}, {"radiance", 2.0}, {"two_sided", true}}});
   const RenderScene scene = ball.build(lights, true);
   std::vector<Render> renders;
   for (const LightStrategy s : {LightStrategy::kMis, LightStrategy::kLightOnly, LightStrategy::kPhaseOnly}) {
