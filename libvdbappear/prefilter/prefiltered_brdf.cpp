@@ -6,8 +6,8 @@
 
 namespace vdbappear {
 
-PrefilteredBrdf::PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base)
-    : cells_x_(surface.height.cellsX()), cells_y_(surface.height.cellsY()), scaling_(surface.scaling) {
+PrefilteredBrdf::PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base, Base shape)
+    : cells_x_(surface.height.cellsX()), cells_y_(surface.height.cellsY()), shape_(shape), scaling_(surface.scaling) {
   if (surface.ndfs.size() != std::size_t(cells_x_) * std::size_t(cells_y_))
     throw std::invalid_argument("PrefilteredBrdf: one NDF per coarse cell");
   cells_.reserve(surface.ndfs.size());
@@ -21,6 +21,10 @@ const MultiLobeBrdf& PrefilteredBrdf::cellAt(const Point2& x) const {
 
 Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const {
   const MultiLobeBrdf& f = cellAt(x);
+  if (shape_ == Base::kPlane) {
+    const Rgb f_low = f.eval(wi, wo);
+    return (f_low == 0).all() ? f_low : Rgb(scaling_(x, wi, wo) * f_low);
+  }
   const Rgb projected = f.projected(wi, wo);
   if ((projected == 0).all()) return projected;
   return scaling_(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
@@ -32,6 +36,11 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const
 // <mu_k, wi> > 0 below the horizon it is also > 0 at wi's mirror image, which the mirrored draws
 // cover. Draws of a lobe that land below the horizon are not kept: pdf() leaves them out.
 BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const {
+  if (shape_ == Base::kPlane) {
+    BrdfSample s = cellAt(x).sample(wo, u_lobe, u);
+    if (s.pdf > 0) s.weight *= scaling_(x, s.wi, wo);
+    return s;
+  }
   const bool below = u_lobe < kBelowHorizonShare;
   u_lobe = below ? u_lobe / kBelowHorizonShare : (u_lobe - kBelowHorizonShare) / (1 - kBelowHorizonShare);
   BrdfSample s = cellAt(x).sampleLobes(wo, std::min(u_lobe, 1 - 1e-16), u);
@@ -44,6 +53,7 @@ BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lob
 
 double PrefilteredBrdf::pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const {
   const MultiLobeBrdf& f = cellAt(x);
+  if (shape_ == Base::kPlane) return f.pdf(wo, wi);
   if (wi.z() < 0) return kBelowHorizonShare * f.lobePdf(wo, Vec3(wi.x(), wi.y(), -wi.z()));
   return wi.z() > 0 ? (1 - kBelowHorizonShare) * f.lobePdf(wo, wi) : 0.0;
 }

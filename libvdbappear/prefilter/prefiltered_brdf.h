@@ -14,20 +14,26 @@ namespace vdbappear {
 
 class PrefilteredBrdf {
  public:
-  PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base);
+  // kPlane keeps Eq. (4.5)'s cut at the base horizon: on a plane only a finite patch's edges see
+  // below it, and there the light continued from the horizon came out high (the white furnace of
+  // docs/displacement.md §8 1.016 against 0.997; the planar maps under the sky 0.06-0.48 points
+  // brighter). kCurved, for a shell over a sphere, shades below the horizon as described below.
+  enum class Base { kPlane, kCurved };
+
+  PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base, Base shape);
 
   // The share of sample()'s directions drawn below the base horizon.
   static constexpr double kBelowHorizonShare = 1.0 / 16;
 
-  // x: the base position on the map, in [0,1]^2 (clamped). Directions below the base horizon,
-  // which a curved base (a shell over a sphere) shows beyond its terminator and at its silhouette,
+  // x: the base position on the map, in [0,1]^2 (clamped). On a curved base, directions below the
+  // base horizon, which a shell over a sphere shows beyond its terminator and at its silhouette,
   // are not cut off as Eq. (4.5) on a plane may: f'_low's lobes reach there as far as their facets
   // tilt (MultiLobeBrdf::projected over the limited cos theta_i of the horizon), and S is read at
   // the horizon. On a plane the map itself shadows and masks them. Only the lights' own light
   // counts there (render/volume_path_tracer.cpp, Vertex::reflectsBack; docs/displacement.md §8).
   Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo) const;
-  // wi by f'_low's lobes, and with probability kBelowHorizonShare such a draw mirrored below the
-  // horizon; weight = eval |cos theta_i| / pdf.
+  // wi by f'_low's lobes, and on a curved base with probability kBelowHorizonShare such a draw
+  // mirrored below the horizon; weight = eval |cos theta_i| / pdf.
   BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
 
@@ -36,6 +42,7 @@ class PrefilteredBrdf {
 
   std::vector<MultiLobeBrdf> cells_;  // cell (u, v) at u + cells_x v
   int cells_x_, cells_y_;
+  Base shape_;
   FactorizedScaling scaling_;
 };
 

@@ -465,7 +465,9 @@ void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription&
   const PlacedMesh mesh = placedMesh(file.surface.height, shell, placement);
   extendBounds(mesh, bounds);
   scene->prefiltered.push_back(
-      {std::make_shared<PrefilteredBrdf>(file.surface, file.base), placement.origin, file.info.size, shell});
+      {std::make_shared<PrefilteredBrdf>(file.surface, file.base,
+                                         shell ? PrefilteredBrdf::Base::kCurved : PrefilteredBrdf::Base::kPlane),
+       placement.origin, file.info.size, shell});
   scene->surfaces->addPrefiltered(mesh.triangles, int(scene->prefiltered.size() - 1), levels, mesh.copies);
 }
 

@@ -90,7 +90,7 @@ TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
 TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, smallSettings()), base);
+  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, smallSettings()), base, PrefilteredBrdf::Base::kCurved);
   const Point2 x(0.3, 0.6);
   test::TestRandom random(5);
   std::uint64_t seed = 40;
