@@ -33,11 +33,11 @@ import math
 import pathlib
 import re
 import shutil
-import struct
 import subprocess
 import sys
 import time
 
+import pinhole_pixels
 from optimize_experiment import Experiment, add_render_arguments, comparison_pictures
 
 FACTOR, LOBES, CLUSTERS = 4, 2, 2
@@ -46,31 +46,11 @@ SEAM_BAND, INSIDE_FROM = 0.25, 0.75  # world units from the nearest block border
 
 
 def pixel_rays(camera_flags, width, height):
-    """The centre ray of every pixel, as vdb_render's pinhole camera makes it (render/camera.cpp)."""
+    """The centre ray of every pixel of vdb_render's camera given by its flags (z up)."""
     flags = dict(zip(camera_flags[::2], camera_flags[1::2]))
-    pos = [float(v) for v in flags["--camera-pos"].split(",")]
+    position = [float(v) for v in flags["--camera-pos"].split(",")]
     target = [float(v) for v in flags["--camera-target"].split(",")]
-    fov = float(flags["--fov"])
-    norm = lambda v: [c / math.sqrt(sum(x * x for x in v)) for c in v]
-    cross = lambda a, b: [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    forward = norm([t - p for t, p in zip(target, pos)])
-    right = norm(cross(forward, [0, 0, 1]))
-    up = cross(right, forward)
-    tan_half, aspect = math.tan(math.radians(fov) / 2), width / height
-    for y in range(height):
-        for x in range(width):
-            sx = (2 * (x + 0.5) / width - 1) * tan_half * aspect
-            sy = (1 - 2 * (y + 0.5) / height) * tan_half
-            yield x, y, pos, norm([f + sx * r + sy * u for f, r, u in zip(forward, right, up)])
-
-
-def write_mask_pfm(path, width, height, inside):
-    with open(path, "wb") as f:
-        f.write(b"PF\n%d %d\n-1.0\n" % (width, height))
-        for y in reversed(range(height)):  # PFM rows go bottom to top
-            for x in range(width):
-                v = 1.0 if (x, y) in inside else 0.0
-                f.write(struct.pack("<3f", v, v, v))
+    return pinhole_pixels.pixel_rays(position, target, [0, 0, 1], float(flags["--fov"]), width, height)
 
 
 def seam_masks(folder, camera_flags, size, plane_z, blocks_x, blocks_y):
@@ -93,8 +73,8 @@ def seam_masks(folder, camera_flags, size, plane_z, blocks_x, blocks_y):
         elif to_border > INSIDE_FROM:
             inside.add((x, y))
     masks = {"border": folder / "mask_border.pfm", "inside": folder / "mask_inside.pfm"}
-    write_mask_pfm(masks["border"], width, height, border)
-    write_mask_pfm(masks["inside"], width, height, inside)
+    pinhole_pixels.write_mask_pfm(masks["border"], width, height, border)
+    pinhole_pixels.write_mask_pfm(masks["inside"], width, height, inside)
     return masks
 
 
