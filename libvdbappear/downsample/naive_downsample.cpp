@@ -1,6 +1,7 @@
 #include "libvdbappear/downsample/naive_downsample.h"
 
 #include "libvdbappear/downsample/coarse_transform.h"
+#include "libvdbappear/downsample/emission_downsample.h"
 #include "libvdbappear/io/leaf_values.h"
 #include "libvdbappear/io/medium_block.h"
 #include "libvdbappear/io/medium.h"
@@ -202,12 +203,14 @@ bool isMultiLobeOrClusterGrid(const std::string& name) {
 }
 
 // Grids other than the base grids: pass the phase table and the block-indexed exemplar grids
-// through, refuse what cannot be averaged.
-void carryOtherGrids(const Medium& fine, const openvdb::math::Transform::Ptr& transform, Medium& coarse,
+// through, average the emission, refuse what cannot be averaged.
+void carryOtherGrids(const Medium& fine, int factor, const openvdb::math::Transform::Ptr& transform, Medium& coarse,
                      std::vector<std::string>& warnings) {
   for (const auto& grid : fine.other_grids) {
     const std::string name = grid->getName();
-    if (name == grid_names::kPhaseTable || isBlockIndexedGridName(name)) {  // not indexed by voxel
+    if (name == grid_names::kEmission) {
+      coarse.other_grids.push_back(downsampleEmission(fine, factor, transform));
+    } else if (name == grid_names::kPhaseTable || isBlockIndexedGridName(name)) {  // not indexed by voxel
       auto copy = grid->deepCopyGrid();
       copy->setTransform(transform);
       coarse.other_grids.push_back(copy);
@@ -240,7 +243,7 @@ DownsampleResult downsampleNaive(const Medium& fine, const DownsampleOptions& op
   coarse->metadata = fine.metadata;
   pinExemplarVoxelSize(fine, *coarse);
   coarse->source = fine.source;
-  carryOtherGrids(fine, transform, *coarse, result.warnings);
+  carryOtherGrids(fine, options.factor, transform, *coarse, result.warnings);
 
   const NaiveDownsampler downsampler(fine, options);
   const std::vector<Coord> origins = downsampler.coarseLeafOrigins();

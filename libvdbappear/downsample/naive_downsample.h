@@ -32,7 +32,8 @@ struct DownsampleResult {
 // density: mean over all F^3 children, empty children counting as 0 (Eq. 6);
 // albedo: density-weighted mean per channel (Eq. 6); S: see SggxWeighting (Eq. 5);
 // hg_g: mean weighted by the scattering coefficient rho * mean(albedo) (preserves the mixture's
-// first Legendre moment), or by density where nothing scatters.
+// first Legendre moment), or by density where nothing scatters; emission: see
+// downsample/emission_downsample.h (docs/medium.md §3b).
 // A coarse voxel is active when one of its children has density > 0. The world region is
 // preserved (docs/medium.md, Placement). Works leaf by leaf in parallel and never densifies.
 // Throws MediumError for grids it cannot downsample (multi-lobe, cluster, phase_id) and for

@@ -17,6 +17,7 @@ std::optional<std::string> contractRole(const std::string& name) {
   if (name == grid_names::kAlbedo) return "single-scattering albedo per RGB channel";
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return "SGGX matrix S: how the flakes are oriented (section 4)";
   if (name == grid_names::kHgG) return "Henyey-Greenstein asymmetry g per voxel";
+  if (name == grid_names::kEmission) return "emitted light, read by metadata emission_convention (section 3b)";
   if (isLobeGridName(name)) return "a lobe of the multi-lobe phase function (section 5)";
   if (name == grid_names::kCluster) return "voxel cluster of the lobe-weight factors (section 5)";
   if (name == grid_names::kPhaseId || name == grid_names::kPhaseTable) return "tabulated phase functions (section 6)";
@@ -34,7 +35,8 @@ std::optional<std::string> foreignGridRole(const std::string& name) {
            "stores colour times density, and --grid albedo=color_r,color_g,color_b/density divides it back "
            "(docs/medium.md section 12)";
   if (name == "flame" || name == "temperature" || name == "heat")
-    return "fire (emission): the medium contract has no emission yet, so no tool renders it (issue 26)";
+    return "fire, not read: the contract's emission is the grid 'emission' (docs/medium.md section 3b); reading "
+           "fire grids as emission is still to come (issue 26)";
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)
     return "motion: no tool uses velocities";
   if (name == "shadow") return "Mantaflow's baked shadow: not needed (vdb_render traces its own shadows)";

@@ -1,5 +1,6 @@
 #include "libvdbappear/io/medium_validate.h"
 
+#include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/leaf_values.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/resource_limits.h"
@@ -137,12 +138,30 @@ std::string describeAlbedo(const openvdb::Vec3s& a) {
   return fmt::format("albedo ({}, {}, {}) outside [0,1]", a[0], a[1], a[2]);
 }
 
+bool emissionOk(const openvdb::Vec3s& e) {
+  return (e[0] >= 0) & (e[0] <= FLT_MAX) & (e[1] >= 0) & (e[1] <= FLT_MAX) & (e[2] >= 0) & (e[2] <= FLT_MAX);  // false for NaN
+}
+std::string describeEmission(const openvdb::Vec3s& e) {
+  if (!isFinite(e)) return fmt::format("emission ({}, {}, {}) is NaN or infinite", e[0], e[1], e[2]);
+  return fmt::format("emission ({}, {}, {}) is negative", e[0], e[1], e[2]);
+}
+
+// An emission grid emits nothing where it is inactive (docs/medium.md §3b).
+void checkEmission(const openvdb::Vec3SGrid& emission, const std::string& source) {
+  if (emission.background() != openvdb::Vec3s(0.0f))
+    fail(source, emission.getName(),
+         fmt::format("background is ({}, {}, {}), expected 0 (inactive voxels emit nothing)", emission.background()[0],
+                     emission.background()[1], emission.background()[2]));
+  checkValues(emission, source, valueRule(emissionOk, describeEmission));
+}
+
 // Value types the contract requires of a grid name, or nullopt for names it does not define.
 std::optional<std::vector<std::string>> requiredValueTypes(const std::string& name) {
   using Types = std::vector<std::string>;
   if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
   if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
-  if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
+  if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag || name == grid_names::kEmission)
+    return Types{"vec3s"};
   if (name == grid_names::kCluster || name == grid_names::kPhaseId || isBlockIndexedGridName(name))
     return Types{"int32"};
   if (isLobeGridName(name)) return Types{name.substr(name.rfind('_')) == "_fraction" ? "float" : "vec3s"};
@@ -224,6 +243,7 @@ void checkMetadata(const Medium& medium, const std::string& source) {
     if (!g) throw MediumError(fmt::format("{}: metadata 'hg_g' is not a number", source));
     if (!(*g > -1 && *g < 1)) throw MediumError(fmt::format("{}: metadata 'hg_g' = {} outside (-1,1)", source, *g));
   }
+  emissionConvention(medium, source);  // throws unless absent, cycles or pbrt
 }
 
 // exemplar_layout, exemplar_stacking: ids in 0..exemplar_count-1, and the metadata that says how big
@@ -274,6 +294,8 @@ void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
     checkValues(static_cast<const openvdb::FloatGrid&>(grid), source,
                 valueRule([](float g) { return g > -1 && g < 1; },
                           [](float g) { return fmt::format("hg_g {} outside (-1,1)", g); }));
+  } else if (name == grid_names::kEmission) {
+    checkEmission(static_cast<const openvdb::Vec3SGrid&>(grid), source);
   } else if (const auto* vec3 = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) {
     checkFinite(*vec3, source);
   } else if (const auto* scalar = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {

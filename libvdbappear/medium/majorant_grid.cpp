@@ -84,7 +84,9 @@ std::vector<openvdb::Coord> densityBlocks(const openvdb::FloatTree& tree) {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation) {
+namespace {
+
+openvdb::FloatGrid::Ptr buildExtinctionMajorant(const Medium& medium, Interpolation interpolation) {
   const std::vector<openvdb::Coord> origins = densityBlocks(medium.density->tree());
   std::vector<LeafBounds> leaf_bounds(origins.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
@@ -151,6 +153,42 @@ openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation in
   });
   for (std::size_t i = 0; i < regions.size(); ++i)
     if (values[i] > 0) accessor.setValue(regions[i], values[i]);
+  return majorant;
+}
+
+// The majorant blocks whose lookups read an emitting voxel: its own block (nearest), or the blocks
+// within one voxel of it (trilinear; a point reads voxels up to one away).
+std::vector<openvdb::Coord> emittingBlocks(const openvdb::Vec3SGrid& emission, Interpolation interpolation) {
+  const int reach = interpolation == Interpolation::kNearest ? 0 : 1;
+  openvdb::MaskGrid blocks;
+  auto mask = blocks.getAccessor();
+  const auto block_of = [](int i) { return i >= 0 ? i / kMajorantBlock : -((-i + kMajorantBlock - 1) / kMajorantBlock); };
+  for (auto v = emission.cbeginValueOn(); v; ++v) {
+    if (!(v->x() > 0 || v->y() > 0 || v->z() > 0)) continue;
+    openvdb::CoordBBox box = v.getBoundingBox();
+    box.expand(reach);
+    const openvdb::CoordBBox blocks_box(
+        openvdb::Coord(block_of(box.min().x()), block_of(box.min().y()), block_of(box.min().z())),
+        openvdb::Coord(block_of(box.max().x()), block_of(box.max().y()), block_of(box.max().z())));
+    for (auto a = blocks_box.begin(); a; ++a) mask.setValueOn(*a);
+  }
+  std::vector<openvdb::Coord> coords;
+  for (auto a = blocks.cbeginValueOn(); a; ++a) {
+    if (a.isVoxelValue()) coords.push_back(a.getCoord());
+    else for (auto c = a.getBoundingBox().begin(); c; ++c) coords.push_back(*c);
+  }
+  return coords;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation, const openvdb::Vec3SGrid* emission) {
+  openvdb::FloatGrid::Ptr majorant = buildExtinctionMajorant(medium, interpolation);
+  if (!emission) return majorant;
+  const openvdb::Vec3d h = medium.transform().voxelSize();
+  const float floor = float(1 / std::min({h[0], h[1], h[2]}));
+  auto accessor = majorant->getAccessor();
+  for (const openvdb::Coord& a : emittingBlocks(*emission, interpolation)) accessor.setValue(a, std::max(floor, accessor.getValue(a)));
   return majorant;
 }
 

@@ -33,6 +33,11 @@ struct Medium;
 // grown by one voxel on every side (the voxels a lookup inside the block can read).
 inline constexpr int kMajorantBlock = 4;
 
-openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation);
+// emission: an `emission` grid added per unit length whatever the density (docs/medium.md §3b, the
+// cycles convention). Over the blocks whose lookups read an emitting voxel the majorant is raised
+// to at least 1 / h (h the shortest voxel edge), so that delta tracking meets emission where the
+// density is 0, about once per voxel length.
+openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation,
+                                          const openvdb::Vec3SGrid* emission = nullptr);
 
 }  // namespace vdbappear

@@ -1,5 +1,6 @@
 #include "libvdbappear/medium/medium_view.h"
 
+#include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/phase_tables.h"
 #include "libvdbappear/medium/majorant_grid.h"
@@ -55,8 +56,11 @@ struct MediumView::Impl {
   openvdb::Int32Grid::Ptr phase_id, cluster;
   int cluster_count = 0;
   std::optional<InstanceMapping> instances;  // an instanced model: lookups go through its layout
+  openvdb::Vec3SGrid::Ptr emission;           // docs/medium.md §3b; null: nothing emits
+  EmissionConvention emission_convention = EmissionConvention::kCycles;
 
   void findInstances();
+  void readEmission();
   void findTransform();
   void findBounds();
   void findPhaseSource();
@@ -88,6 +92,13 @@ void MediumView::Impl::findInstances() {
   if (interpolation != Interpolation::kNearest)
     throw MediumError(fmt::format("{}: an instanced model renders with nearest lookups (--interp nearest); for "
                                   "trilinear lookups assemble it without --instanced", medium->source));
+}
+
+void MediumView::Impl::readEmission() {
+  emission = findOtherGrid<openvdb::Vec3SGrid>(*medium, grid_names::kEmission);
+  emission_convention = emissionConvention(*medium);
+  if (emission && InstanceMapping::of(*medium, kMajorantBlock))
+    fail(grid_names::kEmission, "an instanced model cannot emit yet; assemble it without --instanced");
 }
 
 void MediumView::Impl::findBounds() {
@@ -187,7 +198,9 @@ MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignor
   }
   impl_->medium = std::move(medium);
   impl_->interpolation = interpolation;
-  impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation);
+  impl_->readEmission();
+  const bool emits_where_empty = impl_->emission && impl_->emission_convention == EmissionConvention::kCycles;
+  impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation, emits_where_empty ? impl_->emission.get() : nullptr);
   impl_->findInstances();
   impl_->findTransform();
   impl_->findBounds();
@@ -205,6 +218,7 @@ Interpolation MediumView::interpolation() const { return impl_->interpolation; }
 PhaseSource MediumView::phaseSource() const { return impl_->phase_source; }
 int MediumView::lobeCount() const { return impl_->phase_source == PhaseSource::kLobes ? int(impl_->lobes.size()) : 1; }
 int MediumView::clusterCount() const { return impl_->cluster_count; }
+bool MediumView::emits() const { return bool(impl_->emission); }
 std::size_t MediumView::majorantVoxelCount() const {
   return impl_->instances ? impl_->instances->modelMajorantVoxelCount(*impl_->majorant, kMajorantBlock)
                           : impl_->majorant->activeVoxelCount();
@@ -239,6 +253,7 @@ struct MediumLookup::Accessors {
   OptionalAccessor<openvdb::Vec3SGrid> albedo, diag, offdiag;
   OptionalAccessor<openvdb::FloatGrid> hg_g;
   OptionalAccessor<openvdb::Int32Grid> phase_id, cluster;
+  OptionalAccessor<openvdb::Vec3SGrid> emission;
   std::vector<LobeAccessors> lobes;
 
   explicit Accessors(const MediumView::Impl& view)
@@ -250,7 +265,8 @@ struct MediumLookup::Accessors {
         offdiag(accessorOf<openvdb::Vec3SGrid>(view.medium->sggx_offdiag)),
         hg_g(accessorOf<openvdb::FloatGrid>(view.medium->hg_g)),
         phase_id(accessorOf<openvdb::Int32Grid>(view.phase_id)),
-        cluster(accessorOf<openvdb::Int32Grid>(view.cluster)) {
+        cluster(accessorOf<openvdb::Int32Grid>(view.cluster)),
+        emission(accessorOf<openvdb::Vec3SGrid>(view.emission)) {
     for (const LobeGrids& lobe : view.lobes)
       lobes.push_back({lobe.diag->getConstAccessor(), accessorOf<openvdb::Vec3SGrid>(lobe.offdiag),
                        lobe.weight->getConstAccessor()});
@@ -277,6 +293,10 @@ struct MediumLookup::Accessors {
     return phase_id->probeValue(at(v), id) ? id : background;
   }
   double hgAt(const openvdb::Coord& v) { return hg_g ? hg_g->getValue(at(v)) : 0.0; }
+  Rgb emissionAt(const openvdb::Coord& v) {  // inactive voxels emit nothing
+    openvdb::Vec3s value(0.0f);
+    return emission->probeValue(at(v), value) ? toRgb(value) : Rgb(Rgb::Zero());
+  }
 };
 
 namespace {
@@ -544,9 +564,46 @@ void forEachMajorantEvent(const MediumView::Impl& view, MediumLookup::Accessors&
 
 }  // namespace
 
-std::optional<double> MediumLookup::sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng) {
+namespace {
+
+// The light emitted per unit length at index-space point p (docs/medium.md §3b), given sigma_t
+// there toward the ray's direction: E under the cycles convention; sigma_a Le = sigma_t (1 - albedo)
+// Le under pbrt's, with (1 - albedo) Le weighted by density over the trilinear stencil.
+Rgb emittedAt(MediumLookup::Accessors& a, const MediumView::Impl& view, const Vec3& p, double sigma_t) {
+  const bool per_length = view.emission_convention == EmissionConvention::kCycles;
+  if (!per_length && !(sigma_t > 0)) return Rgb::Zero();
+  if (view.interpolation == Interpolation::kNearest) {
+    const openvdb::Coord v = nearestVoxel(p);
+    return per_length ? a.emissionAt(v) : Rgb(sigma_t * (1 - a.albedoAt(v)) * a.emissionAt(v));
+  }
+  const TrilinearStencil stencil(p);
+  Rgb sum = Rgb::Zero();
+  double rho_sum = 0;
+  for (int c = 0; c < 8; ++c) {
+    if (per_length) {
+      sum += stencil.weight[c] * a.emissionAt(stencil.ijk(c));
+      continue;
+    }
+    const double w = stencil.weight[c] * a.rho(stencil.ijk(c));
+    if (!(w > 0)) continue;
+    rho_sum += w;
+    sum += w * (1 - a.albedoAt(stencil.ijk(c))) * a.emissionAt(stencil.ijk(c));
+  }
+  if (per_length) return sum;
+  return rho_sum > 0 ? Rgb(sigma_t * sum / rho_sum) : Rgb(Rgb::Zero());
+}
+
+}  // namespace
+
+std::optional<double> MediumLookup::sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng,
+                                                    Rgb* emitted) {
   std::optional<double> collision;
+  const bool score_emission = emitted && view_.emission;
+  const Vec3 o_index = view_.world_to_index * o + view_.index_of_origin, d_index = view_.world_to_index * d;
   forEachMajorantEvent(view_, *accessors_, stats_, o, d, t_max, rng, [&](double t, double sigma_t, double sigma_maj) {
+    // Every majorant event, real or null, scores E / sigma_maj: the events' density is sigma_maj T,
+    // so the sum estimates the integral of T E along the ray up to the collision (pbrt-v4 likewise).
+    if (score_emission) *emitted += emittedAt(*accessors_, view_, o_index + t * d_index, sigma_t) / sigma_maj;
     if (rng.uniform() * sigma_maj >= sigma_t) return true;  // a null collision
     collision = t;
     return false;

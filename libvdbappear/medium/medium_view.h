@@ -63,6 +63,7 @@ class MediumView {
   PhaseSource phaseSource() const;
   int lobeCount() const;     // lobes per voxel when phaseSource() is kLobes, else 1
   int clusterCount() const;  // 1 + the largest id of the `cluster` grid; 0 without one
+  bool emits() const;        // the medium has an `emission` grid (docs/medium.md §3b)
   std::size_t majorantVoxelCount() const;
   // An instanced model (docs/modularity.md): the voxels it would have if built; 0 for other media.
   std::uint64_t instancedVoxelCount() const;
@@ -91,7 +92,11 @@ class MediumLookup {
   // Delta (Woodcock) tracking: the distance to the first real collision along o + t d, t in
   // (0, t_max), sampled with density sigma_t(t) T(t); nullopt if the ray leaves first
   // (probability T(t_max)). d is a unit vector.
-  std::optional<double> sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng);
+  // emitted (media that emit, docs/medium.md §3b): adds an unbiased estimate of the light the medium
+  // emits toward o along the ray up to the collision (or t_max), the integral of T(t) E(t) dt; it
+  // draws no random numbers of its own, so the collision is the one sampled without it.
+  std::optional<double> sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng,
+                                        Rgb* emitted = nullptr);
   // Ratio tracking (Novák et al. 2014): an unbiased estimate of the transmittance T(t_max), with
   // Russian roulette once the estimate falls below 0.1.
   double transmittance(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng);

@@ -33,7 +33,8 @@ const char* lightStrategyName(LightStrategy strategy) {
   return "?";
 }
 
-VolumePathTracer::VolumePathTracer(const RenderScene& scene, const PathSettings& settings) : scene_(scene), settings_(settings) {
+VolumePathTracer::VolumePathTracer(const RenderScene& scene, const PathSettings& settings)
+    : scene_(scene), settings_(settings), emits_(scene.medium && scene.medium->emits()) {
   if (scene_.sh_lights) clamped_cosine_ = clampedCosineCoefficients(scene_.sh_lights->lmax());
 }
 
@@ -223,7 +224,16 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
     if (scene_.surfaces) hit = scene_.surfaces->intersect(ray.o, ray.d, camera_ray ? 0.0 : eps, kInfinity, vertex.level);
     const double t_surface = hit ? hit->t : kInfinity;
     std::optional<double> t_medium;
-    if (lookup) t_medium = lookup->sampleCollision(ray.o, ray.d, t_surface, rng);
+    if (lookup) {
+      // The medium's own light along the ray up to the collision (docs/medium.md §3b): no light
+      // samples it, so it is scored here, unweighted, along every ray the path traces.
+      Rgb emitted = Rgb::Zero();
+      t_medium = lookup->sampleCollision(ray.o, ray.d, t_surface, rng, emits_ ? &emitted : nullptr);
+      if (emits_ && (emitted > 0).any()) {
+        result.L += beta * emitted;
+        if (gradients) gradients->addLight(emitted);
+      }
+    }
 
     vertex.wi = -ray.d;
     vertex.on_surface = false;

@@ -65,6 +65,7 @@ class VolumePathTracer {
 
   const RenderScene& scene_;
   PathSettings settings_;
+  bool emits_ = false;  // the medium has an emission grid
   std::vector<double> clamped_cosine_;  // A_l of the SH grid's bands (lightgrid/sh_irradiance.h)
 };
 

@@ -55,6 +55,39 @@ TEST(RenderCli, DefaultLightingShowsAWhiteSmoke) {
   EXPECT_LT(hidden.structure, 0.05);
 }
 
+// An emitting medium (docs/medium.md §3b) glows with no light at all, and vdb_sggx_downsample
+// carries its emission (no "dropped grid" warning): the uniform 8^3 cube at half resolution is the
+// same cube, so it renders the same. Negative control: without its emission grid it is black.
+TEST(RenderCli, AnEmittingMediumGlowsAndKeepsItsEmissionWhenDownsampled) {
+  const TempDir dir;
+  const MediumPtr cube = readMedium(std::string(GOLDEN_DIR) + "/cube8.vdb");
+  auto emission = test::namedGridLike<openvdb::Vec3SGrid>(*cube, grid_names::kEmission, openvdb::Vec3s(0.0f));
+  emission->topologyUnion(*cube->density);
+  for (auto v = emission->beginValueOn(); v; ++v) v.setValue(openvdb::Vec3s(2.0f, 1.0f, 0.5f));
+  openvdb::GridPtrVec grids = test::copyGrids(*cube);
+  test::writeRawVdb(dir.path("dark.vdb"), grids);
+  grids.push_back(emission);
+  test::writeRawVdb(dir.path("glow.vdb"), grids);
+  const auto down = runCommand(quote(VDB_SGGX_DOWNSAMPLE) + " -f 2 " + quote(dir.path("glow.vdb")) + " " +
+                               quote(dir.path("glow2.vdb")));
+  ASSERT_EQ(down.status, 0) << down.err;
+  EXPECT_EQ(down.err.find("dropped"), std::string::npos) << down.err;
+  const auto mean = [&](const std::string& medium) {
+    const std::string out = dir.path(medium + ".exr");
+    const auto r = runCommand(kRender + " " + quote(dir.path(medium + ".vdb")) + " -o " + quote(out) +
+                              " --res 16x16 --spp 64 --env 0");
+    EXPECT_EQ(r.status, 0) << r.err;
+    const ImageChannels image = readImageChannels(out);
+    double sum = 0;
+    for (int i = 0; i < image.width * image.height; ++i) sum += image.values[std::size_t(i) * image.names.size()];
+    return sum / (image.width * image.height);
+  };
+  const double glow = mean("glow"), coarse = mean("glow2");
+  EXPECT_GT(glow, 0.05);
+  EXPECT_NEAR(coarse, glow, 0.05 * glow);
+  EXPECT_EQ(mean("dark"), 0.0);
+}
+
 TEST(RenderCli, WritesExrWithAovsPreviewAndReport) {
   TempDir dir;
   const std::string out = dir.path("cube.exr"), png = dir.path("cube.png"), report = dir.path("r.json");

@@ -15,6 +15,7 @@
 
 #include "support/height_fields.h"
 #include "support/medium_testing.h"
+#include "support/render_testing.h"
 #include "support/scoped_environment.h"
 #include "support/test_random.h"
 
@@ -25,22 +26,14 @@ namespace vdbappear {
 namespace {
 
 using nlohmann::json;
-
-// A cube of res^3 voxels and edge `size`: voxel i covers [i - 1/2, i + 1/2] h, h = size / res.
-MediumPtr cube(int res, double size, float rho, float albedo) {
-  auto medium = std::make_shared<Medium>();
-  medium->source = "test cube";
-  medium->density = openvdb::FloatGrid::create(0.0f);
-  medium->density->setName(grid_names::kDensity);
-  medium->density->setTransform(openvdb::math::Transform::createLinearTransform(size / res));
-  const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(res - 1));
-  medium->density->denseFill(box, rho, true);
-  medium->albedo = openvdb::Vec3SGrid::create(openvdb::Vec3s(1.0f));
-  medium->albedo->setName(grid_names::kAlbedo);
-  medium->albedo->setTransform(medium->density->transform().copy());
-  medium->albedo->denseFill(box, openvdb::Vec3s(albedo), true);
-  return medium;
-}
+using test::cube;
+using test::expectImage;
+using test::expectSameImage;
+using test::render;
+using test::Render;
+using test::renderStraightDown;
+using test::small;
+using test::summarize;
 
 // Two HG phase functions, g = 0.7 where x < res/2 and -0.3 elsewhere: as an `hg_g` grid, or as
 // tables (4096 bins, exact bin averages) with `phase_id`.
@@ -99,82 +92,6 @@ void addTwoLobes(Medium& medium, float albedo, std::uint64_t seed) {
   }
   medium.other_grids.push_back(w0);
   medium.other_grids.push_back(w1);
-}
-
-struct Render {
-  RenderResult result;
-  double mean = 0, error = 0;  // image mean and its standard error
-};
-
-// The image mean and its standard error.
-Render summarize(RenderResult result) {
-  Render r;
-  r.result = std::move(result);
-  const double n = double(r.result.mean.size());
-  double variance = 0;
-  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
-    r.mean += r.result.mean[i] / n;
-    variance += r.result.variance[i] / (n * n);
-  }
-  r.error = std::sqrt(variance);
-  return r;
-}
-
-Render render(const MediumPtr& medium, const json& lights, const RenderSettings& settings, Interpolation interp,
-              const std::string& view = "+z", std::optional<GroundDescription> ground = std::nullopt) {
-  SceneDescription description;
-  description.lights = lights;
-  description.ground = ground;
-  description.render = settings;
-  description.interpolation = interp;
-  description.view = view;
-  const auto view_of = medium ? std::make_shared<MediumView>(medium, interp) : nullptr;
-  const RenderScene scene = buildRenderScene(description, view_of, [](const std::string&) -> RgbImage {
-    throw std::runtime_error("no images in tests");
-  });
-  const PinholeCamera camera(cameraOf(description, view_of.get()), settings.width, settings.height);
-  return summarize(renderImage(scene, camera, settings));
-}
-
-// A narrow camera far above the medium's centre: every ray within 0.02 degrees of -z.
-Render renderStraightDown(const MediumPtr& medium, const json& lights, const RenderSettings& settings) {
-  SceneDescription description;
-  description.lights = lights;
-  const auto view = std::make_shared<MediumView>(medium, Interpolation::kNearest);
-  const Vec3 centre = view->worldBounds().centre();
-  const RenderScene scene = buildRenderScene(description, view, {});
-  const PinholeCamera camera({centre + Vec3(0, 0, 100), centre, Vec3(0, 1, 0), 0.05}, settings.width, settings.height);
-  return summarize(renderImage(scene, camera, settings));
-}
-
-RenderSettings small(int size, int spp, std::uint64_t seed = 1) {
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.seed = seed;
-  return s;
-}
-
-// Every pixel within 5 standard errors of `expected`, the image mean within 4.
-void expectImage(const Render& r, double expected, const std::string& what) {
-  int outliers = 0;
-  for (std::size_t i = 0; i < r.result.mean.size(); ++i) {
-    const double sigma = std::sqrt(r.result.variance[i]);
-    if (std::abs(r.result.mean[i] - expected) > 5 * sigma + 1e-6) ++outliers;
-  }
-  EXPECT_EQ(outliers, 0) << what;
-  EXPECT_NEAR(r.mean, expected, 4 * r.error + 1e-9) << what;
-  EXPECT_EQ(r.result.tracking.majorant_violations, 0u) << what;
-}
-
-// Two renders of one scene agree: the means within 4 combined standard errors, every pixel within 5.
-void expectSameImage(const Render& a, const Render& b, const std::string& what) {
-  EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.error, b.error)) << what;
-  int outliers = 0;
-  for (std::size_t i = 0; i < a.result.mean.size(); ++i)
-    if (std::abs(a.result.mean[i] - b.result.mean[i]) > 5 * std::sqrt(a.result.variance[i] + b.result.variance[i]) + 1e-6)
-      ++outliers;
-  EXPECT_EQ(outliers, 0) << what;
 }
 
 struct FurnaceCase {

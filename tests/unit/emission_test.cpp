@@ -1,0 +1,183 @@
+// Emitting media (docs/medium.md §3b): the path tracer against closed forms under both conventions,
+// the downsampler against a direct average of the children, and the reader's checks.
+#include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/io/emission_convention.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/procedural/random_medium.h"
+
+#include "support/medium_testing.h"
+#include "support/render_testing.h"
+#include "support/temp_dir.h"
+#include "support/test_random.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace vdbappear {
+namespace {
+
+using nlohmann::json;
+using openvdb::Coord;
+using openvdb::Vec3s;
+
+// An emission grid over the box, value e, with the medium's transform.
+openvdb::Vec3SGrid::Ptr emissionOver(const Medium& medium, const openvdb::CoordBBox& box, const Rgb& e) {
+  auto grid = test::namedGridLike<openvdb::Vec3SGrid>(medium, grid_names::kEmission, Vec3s(0.0f));
+  grid->denseFill(box, Vec3s(float(e[0]), float(e[1]), float(e[2])), true);
+  return grid;
+}
+
+void setConvention(Medium& medium, EmissionConvention convention) {
+  medium.metadata.insertMeta(metadata_names::kEmissionConvention, openvdb::StringMetadata(emissionConventionName(convention)));
+}
+
+const char* name(Interpolation interp) { return interp == Interpolation::kNearest ? "nearest" : "trilinear"; }
+
+// An emitting, absorbing cube of optical depth tau = 2 seen straight down, without lights, along
+// camera rays only (no scattering): cycles L = E / sigma_t (1 - exp(-tau)); pbrt L = (1 - albedo) Le
+// (1 - exp(-tau)), the Le (1 - exp(-tau)) where nothing scatters. Under trilinear lookups E
+// and sigma_t ramp together at the faces, so the closed form holds there too.
+TEST(Emission, EmittingAbsorbingCubeMatchesItsClosedForm) {
+  const Rgb e(0.5, 1.0, 1.5);
+  const double sigma_t = 2.0, tau = 2.0;
+  for (const EmissionConvention convention : {EmissionConvention::kCycles, EmissionConvention::kPbrt})
+    for (const float albedo : {0.0f, 0.25f})
+      for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+        auto medium = test::cube(8, 1.0, float(sigma_t), albedo);
+        medium->other_grids.push_back(emissionOver(*medium, openvdb::CoordBBox(Coord(0), Coord(7)), e));
+        setConvention(*medium, convention);
+        RenderSettings settings = test::small(4, 4000);
+        settings.path.max_depth = 0;
+        const test::Render r = test::renderStraightDown(medium, json::array(), settings, std::nullopt, interp);
+        const Rgb expected = convention == EmissionConvention::kCycles ? Rgb(e / sigma_t * (1 - std::exp(-tau)))
+                                                                       : Rgb((1 - albedo) * e * (1 - std::exp(-tau)));
+        test::expectImage(r, expected,
+                          fmt::format("{}, albedo {}, {}", emissionConventionName(convention), albedo, name(interp)));
+      }
+}
+
+// Emission where the density is 0 (cycles) is added along the ray whatever the medium: in the white
+// furnace (sky 1) the sky plus E times the length crossed, 1 + 8 h E. Delta tracking meets it only
+// because the majorant is raised over emitting voxels (medium/majorant_grid.h); the density is one
+// voxel far away, off every ray.
+TEST(Emission, EmissionWithoutDensityAddsItsLineIntegral) {
+  const double h = 1.0 / 8, E = 0.25;
+  for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+    auto medium = test::cube(1, h, 1.0f, 1.0f);  // voxel (0,0,0)
+    medium->density->tree().clear();
+    medium->density->tree().setValueOn(Coord(40, 40, 40), 1.0f);
+    medium->other_grids.push_back(emissionOver(*medium, openvdb::CoordBBox(Coord(0), Coord(7)), Rgb::Constant(E)));
+    const test::Render r = test::renderStraightDown(medium, json::array({{{"type", "env"}, {"radiance", 1.0}}}),
+                                                    test::small(4, 4000), Vec3::Constant(3.5 * h), interp);
+    test::expectImage(r, 1 + 8 * h * E, name(interp));
+  }
+}
+
+// Emitted light scatters like any other, so it is scored along every ray of a path, not only the
+// camera's: a glowing cube of albedo 0.9 (cycles, E = 1, sigma_t = 4) gives E / sigma_t (1 - exp(-4))
+// along camera rays alone, and much more with every bounce (deep inside, radiance nears
+// E / sigma_a = 2.5).
+TEST(Emission, ScatteredEmissionAddsToTheCameraRaysEmission) {
+  auto medium = test::cube(8, 1.0, 4.0f, 0.9f);
+  medium->other_grids.push_back(emissionOver(*medium, openvdb::CoordBBox(Coord(0), Coord(7)), Rgb::Constant(1.0)));
+  RenderSettings direct = test::small(4, 2000);
+  direct.path.max_depth = 0;
+  const test::Render camera_only = test::renderStraightDown(medium, json::array(), direct);
+  const test::Render every_bounce = test::renderStraightDown(medium, json::array(), test::small(4, 2000));
+  test::expectImage(camera_only, 1.0 / 4 * (1 - std::exp(-4.0)), "camera rays");
+  EXPECT_GT(every_bounce.mean, camera_only.mean * 1.5);  // albedo 0.9: most emitted light scatters out
+}
+
+// The coarse emission against its children, by brute force (docs/medium.md §3b).
+TEST(Emission, DownsamplingAveragesTheChildren) {
+  for (const EmissionConvention convention : {EmissionConvention::kCycles, EmissionConvention::kPbrt}) {
+    RandomMediumParams params;
+    params.extent = 24;
+    params.seed = 5;
+    MediumPtr fine = makeRandomMedium(params);
+    setConvention(*fine, convention);
+    auto emission = test::namedGridLike<openvdb::Vec3SGrid>(*fine, grid_names::kEmission, Vec3s(0.0f));
+    test::TestRandom random(6);
+    for (int x = -14; x < 14; ++x)  // beyond the density's box too: emission without density
+      for (int y = -14; y < 14; ++y)
+        for (int z = -14; z < 14; ++z)
+          if (random.uniform() < 0.4)
+            emission->tree().setValueOn(Coord(x, y, z), Vec3s(float(random.uniform()), float(random.uniform()), 0.0f));
+    fine->other_grids.push_back(emission);
+    const int F = 3;
+    const MediumPtr coarse = downsampleNaive(*fine, {F, SggxWeighting::Count}).medium;
+    const auto coarse_emission = findOtherGrid<openvdb::Vec3SGrid>(*coarse, grid_names::kEmission);
+    ASSERT_TRUE(coarse_emission) << emissionConventionName(convention);
+    EXPECT_EQ(coarse_emission->transform(), coarse->transform());
+    int checked = 0;
+    for (auto v = coarse_emission->cbeginValueOn(); v; ++v, ++checked) {
+      Rgb sum = Rgb::Zero(), absorbed = Rgb::Zero(), absorption = Rgb::Zero();
+      for (auto c = openvdb::CoordBBox::createCube(openvdb::Coord(v.getCoord().x() * F, v.getCoord().y() * F, v.getCoord().z() * F), F).begin(); c; ++c) {
+        Vec3s e(0.0f);
+        const Rgb Le = emission->tree().probeValue(*c, e) ? Rgb(e[0], e[1], e[2]) : Rgb(Rgb::Zero());
+        sum += Le;
+        float rho = 0;
+        if (!fine->density->tree().probeValue(*c, rho) || !(rho > 0)) continue;
+        const Vec3s a = fine->albedo->tree().getValue(*c);
+        const Rgb one_minus_a(1 - a[0], 1 - a[1], 1 - a[2]);
+        absorbed += rho * one_minus_a * Le;
+        absorption += rho * one_minus_a;
+      }
+      const Rgb expected = convention == EmissionConvention::kCycles ? Rgb(sum / (F * F * F))
+                                                                     : Rgb(absorbed / absorption.max(1e-300));
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR((*v)[k], expected[k], 1e-5 * (1 + expected[k]))
+            << emissionConventionName(convention) << " at " << v.getCoord() << ", channel " << k;
+    }
+    EXPECT_GT(checked, 500) << emissionConventionName(convention);
+  }
+}
+
+MediumPtr densityCube() { return test::cube(4, 1.0, 1.0f, 0.5f); }
+
+std::string errorOf(const Medium& medium, const openvdb::MetaMap& metadata = {}) {
+  test::TempDir dir;
+  test::writeRawVdb(dir.path("in.vdb"), test::copyGrids(medium), metadata);
+  return test::readMediumError(dir.path("in.vdb"));
+}
+
+TEST(Emission, BadEmissionIsRefusedNamingTheGrid) {
+  MediumPtr medium = densityCube();
+  medium->other_grids.push_back(emissionOver(*medium, openvdb::CoordBBox(Coord(0), Coord(3)), Rgb(0.5, 1.0, 0.0)));
+  EXPECT_EQ(errorOf(*medium), "");
+  static_cast<openvdb::Vec3SGrid&>(*medium->other_grids.back()).tree().setValueOn(Coord(2, 0, 1), Vec3s(0.5f, -1.0f, 0.0f));
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': emission (0.5, -1, 0) is negative at voxel (2,0,1)"), std::string::npos)
+      << errorOf(*medium);
+  static_cast<openvdb::Vec3SGrid&>(*medium->other_grids.back()).tree().setValueOn(Coord(2, 0, 1), Vec3s(NAN, 0.0f, 0.0f));
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': emission (nan, 0, 0) is NaN or infinite at voxel (2,0,1)"), std::string::npos)
+      << errorOf(*medium);
+
+  medium = densityCube();
+  auto background = test::namedGridLike<openvdb::Vec3SGrid>(*medium, grid_names::kEmission, Vec3s(1.0f));
+  medium->other_grids.push_back(background);
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': background is (1, 1, 1), expected 0"), std::string::npos) << errorOf(*medium);
+
+  medium = densityCube();
+  medium->other_grids.push_back(test::namedGridLike<openvdb::FloatGrid>(*medium, grid_names::kEmission));
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': holds float values, expected vec3s"), std::string::npos) << errorOf(*medium);
+}
+
+TEST(Emission, UnknownConventionIsRefused) {
+  const MediumPtr medium = densityCube();
+  openvdb::MetaMap metadata;
+  metadata.insertMeta(metadata_names::kEmissionConvention, openvdb::StringMetadata("mitsuba"));
+  EXPECT_NE(errorOf(*medium, metadata).find("metadata 'emission_convention' = 'mitsuba': expected cycles or pbrt"),
+            std::string::npos)
+      << errorOf(*medium, metadata);
+  openvdb::MetaMap number;
+  number.insertMeta(metadata_names::kEmissionConvention, openvdb::Int32Metadata(1));
+  EXPECT_NE(errorOf(*medium, number).find("metadata 'emission_convention' is not a string"), std::string::npos);
+  openvdb::MetaMap pbrt;
+  pbrt.insertMeta(metadata_names::kEmissionConvention, openvdb::StringMetadata("pbrt"));
+  EXPECT_EQ(errorOf(*medium, pbrt), "");
+}
+
+}  // namespace
+}  // namespace vdbappear
