@@ -33,6 +33,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_make_medium cloud -o - | vdb_render - -o cloud.png --camera-pos 0,-3,0.5 --camera-target 0,0,0
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
   vdb_render houdini_smoke.vdb -o smoke.png --grid albedo=Cd --grid density=density:0.5   (foreign grid names)
+  vdb_render fire.vdb -o fire.png --grid emission=flame:20    (a fire grid as emission, docs/medium.md 3b)
   mpirun -n 4 vdb_render velvet.vdb -o velvet.exr --res 1280x720 --spp 4096 -j 8   (ranks share the tiles;
       the same image at any rank count: docs/scaling.md)
   vdb_render --translucent-mesh bunny.obj --sss-density 2.2,2.6,3.0 --sss-albedo 0.999 --camera-pos 0,-4,1

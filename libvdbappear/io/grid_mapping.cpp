@@ -14,9 +14,12 @@ namespace vdbappear {
 
 namespace {
 
-// The roles a mapping may fill: the base grids of docs/medium.md §3.
-constexpr std::array<const char*, 5> kRoles = {grid_names::kDensity, grid_names::kAlbedo, grid_names::kSggxDiag,
-                                               grid_names::kSggxOffdiag, grid_names::kHgG};
+// The roles a mapping may fill: the base grids of docs/medium.md §3, and the emission of §3b.
+constexpr std::array<const char*, 6> kRoles = {grid_names::kDensity,     grid_names::kAlbedo, grid_names::kSggxDiag,
+                                               grid_names::kSggxOffdiag, grid_names::kHgG,   grid_names::kEmission};
+
+// Roles of RGB colour: made from one vec3s grid, one float grid (grey) or three float grids.
+bool isColourRole(const std::string& role) { return role == grid_names::kAlbedo || role == grid_names::kEmission; }
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -67,10 +70,11 @@ GridRule parseGridRule(const std::string& text) {
   rule.sources = split(sources, ',');
   for (const std::string& source : rule.sources)
     if (source.empty()) throw std::invalid_argument(fmt::format("'{}': a grid name is empty", text));
-  if (rule.sources.size() == 3 && rule.role != grid_names::kAlbedo)
-    throw std::invalid_argument(fmt::format("'{}': only albedo is made from three grids (R, G, B)", text));
+  if (rule.sources.size() == 3 && !isColourRole(rule.role))
+    throw std::invalid_argument(fmt::format("'{}': only albedo and emission are made from three grids (R, G, B)", text));
   if (rule.sources.size() != 1 && rule.sources.size() != 3)
-    throw std::invalid_argument(fmt::format("'{}': expected one grid, or three for albedo (R, G, B)", text));
+    throw std::invalid_argument(
+        fmt::format("'{}': expected one grid, or three for albedo and emission (R, G, B)", text));
   return rule;
 }
 

@@ -78,8 +78,10 @@ std::optional<std::string> unreadConventionGrids(const openvdb::GridPtrVec& grid
   for (const char* name : {"flame", "temperature", "heat"})
     if (hasAnyGrid(grids, name)) emission.push_back(fmt::format("'{}'", name));
   if (emission.empty()) return std::nullopt;
-  return fmt::format("{} {} emission, which the medium contract does not have yet: not rendered",
-                     fmt::join(emission, ", "), emission.size() == 1 ? "holds" : "hold");
+  return fmt::format("{} {} fire, not read: --grid emission={}:STRENGTH reads a grid as the medium's emission "
+                     "(docs/medium.md section 3b)",
+                     fmt::join(emission, ", "), emission.size() == 1 ? "holds" : "hold",
+                     hasAnyGrid(grids, "flame") ? "flame" : emission.front().substr(1, emission.front().size() - 2));
 }
 
 }  // namespace vdbappear

@@ -110,7 +110,7 @@ openvdb::GridBase::Ptr undividedGrid(const openvdb::GridPtrVec& grids, const Gri
   const std::string& name = rule.sources.front();
   if (rule.role == names::kSggxDiag || rule.role == names::kSggxOffdiag)
     return scaledCopy(*sourceOfType<openvdb::Vec3SGrid>(grids, rule, name, source), rule.role, rule.scale);
-  if (rule.role == names::kAlbedo) {
+  if (rule.role == names::kAlbedo || rule.role == names::kEmission) {  // grey or RGB
     const openvdb::GridBase::Ptr grid = findGrid(grids, name);
     if (auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return scaledCopy(*grey, rule.role, rule.scale);
     return scaledCopy(*sourceOfType<openvdb::Vec3SGrid>(grids, rule, name, source, "vec3s or float"), rule.role,
@@ -220,7 +220,9 @@ MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping
     mapper.note(fmt::format("--from {}: none of its colour grids ({}): the grids are read as they are",
                             gridPresetName(mapping.preset),
                             mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
-  if (mapping.preset != GridPreset::kNone && isForeignFile(grids, mapping.preset))
+  const bool maps_emission = std::any_of(mapping.rules.begin(), mapping.rules.end(),
+                                         [](const GridRule& rule) { return rule.role == grid_names::kEmission; });
+  if (mapping.preset != GridPreset::kNone && !maps_emission && isForeignFile(grids, mapping.preset))
     if (auto unread = unreadConventionGrids(grids)) mapper.note(*unread);
   return mapper.finish();
 }

@@ -109,7 +109,7 @@ VdbContents readVdbStream(std::istream& in, const std::string& source) {
   return contents;
 }
 
-// A grey albedo (FloatGrid) as RGB: the same topology, each value repeated in three channels.
+// A grey albedo or emission (FloatGrid) as RGB: the same topology, each value repeated in three channels.
 openvdb::Vec3SGrid::Ptr greyToRgb(const openvdb::FloatGrid& grey) {
   auto rgb = openvdb::Vec3SGrid::create(openvdb::Vec3s(grey.background()));
   rgb->setName(grey.getName());
@@ -153,6 +153,8 @@ MediumPtr toMedium(VdbContents contents, const std::string& source) {
       medium->sggx_offdiag = typedGrid<openvdb::Vec3SGrid>(grid, source);
     } else if (name == names::kHgG) {
       medium->hg_g = typedGrid<openvdb::FloatGrid>(grid, source);
+    } else if (auto grey = openvdb::gridPtrCast<openvdb::FloatGrid>(grid); grey && name == names::kEmission) {
+      medium->other_grids.push_back(greyToRgb(*grey));
     } else {
       medium->other_grids.push_back(grid);
     }

@@ -35,8 +35,8 @@ std::optional<std::string> foreignGridRole(const std::string& name) {
            "stores colour times density, and --grid albedo=color_r,color_g,color_b/density divides it back "
            "(docs/medium.md section 12)";
   if (name == "flame" || name == "temperature" || name == "heat")
-    return "fire, not read: the contract's emission is the grid 'emission' (docs/medium.md section 3b); reading "
-           "fire grids as emission is still to come (issue 26)";
+    return fmt::format("fire, not read: --grid emission={}:STRENGTH reads it as the medium's emission per unit "
+                       "length (docs/medium.md section 3b)", name);
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)
     return "motion: no tool uses velocities";
   if (name == "shadow") return "Mantaflow's baked shadow: not needed (vdb_render traces its own shadows)";

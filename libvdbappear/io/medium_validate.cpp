@@ -146,22 +146,25 @@ std::string describeEmission(const openvdb::Vec3s& e) {
   return fmt::format("emission ({}, {}, {}) is negative", e[0], e[1], e[2]);
 }
 
-// An emission grid emits nothing where it is inactive (docs/medium.md §3b).
-void checkEmission(const openvdb::Vec3SGrid& emission, const std::string& source) {
-  if (emission.background() != openvdb::Vec3s(0.0f))
+// An emission grid (RGB, or grey) emits nothing where it is inactive (docs/medium.md §3b).
+template <typename GridT>
+void checkEmission(const GridT& emission, const std::string& source) {
+  using ValueT = typename GridT::ValueType;
+  const openvdb::Vec3s background(emission.background());
+  if (background != openvdb::Vec3s(0.0f))
     fail(source, emission.getName(),
-         fmt::format("background is ({}, {}, {}), expected 0 (inactive voxels emit nothing)", emission.background()[0],
-                     emission.background()[1], emission.background()[2]));
-  checkValues(emission, source, valueRule(emissionOk, describeEmission));
+         fmt::format("background is ({}, {}, {}), expected 0 (inactive voxels emit nothing)", background[0],
+                     background[1], background[2]));
+  checkValues(emission, source, valueRule([](const ValueT& e) { return emissionOk(openvdb::Vec3s(e)); },
+                                          [](const ValueT& e) { return describeEmission(openvdb::Vec3s(e)); }));
 }
 
 // Value types the contract requires of a grid name, or nullopt for names it does not define.
 std::optional<std::vector<std::string>> requiredValueTypes(const std::string& name) {
   using Types = std::vector<std::string>;
   if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
-  if (name == grid_names::kAlbedo) return Types{"vec3s", "float"};
-  if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag || name == grid_names::kEmission)
-    return Types{"vec3s"};
+  if (name == grid_names::kAlbedo || name == grid_names::kEmission) return Types{"vec3s", "float"};
+  if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
   if (name == grid_names::kCluster || name == grid_names::kPhaseId || isBlockIndexedGridName(name))
     return Types{"int32"};
   if (isLobeGridName(name)) return Types{name.substr(name.rfind('_')) == "_fraction" ? "float" : "vec3s"};
@@ -295,7 +298,8 @@ void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
                 valueRule([](float g) { return g > -1 && g < 1; },
                           [](float g) { return fmt::format("hg_g {} outside (-1,1)", g); }));
   } else if (name == grid_names::kEmission) {
-    checkEmission(static_cast<const openvdb::Vec3SGrid&>(grid), source);
+    if (const auto* rgb = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) checkEmission(*rgb, source);
+    else checkEmission(static_cast<const openvdb::FloatGrid&>(grid), source);
   } else if (const auto* vec3 = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) {
     checkFinite(*vec3, source);
   } else if (const auto* scalar = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {

@@ -159,9 +159,17 @@ TEST(Emission, BadEmissionIsRefusedNamingTheGrid) {
   medium->other_grids.push_back(background);
   EXPECT_NE(errorOf(*medium).find("grid 'emission': background is (1, 1, 1), expected 0"), std::string::npos) << errorOf(*medium);
 
+  medium = densityCube();  // grey emission is read as RGB, and checked the same way
+  auto grey = test::namedGridLike<openvdb::FloatGrid>(*medium, grid_names::kEmission);
+  grey->tree().setValueOn(Coord(1, 2, 3), -0.5f);
+  medium->other_grids.push_back(grey);
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': emission (-0.5, -0.5, -0.5) is negative at voxel (1,2,3)"),
+            std::string::npos)
+      << errorOf(*medium);
+
   medium = densityCube();
-  medium->other_grids.push_back(test::namedGridLike<openvdb::FloatGrid>(*medium, grid_names::kEmission));
-  EXPECT_NE(errorOf(*medium).find("grid 'emission': holds float values, expected vec3s"), std::string::npos) << errorOf(*medium);
+  medium->other_grids.push_back(test::namedGridLike<openvdb::Int32Grid>(*medium, grid_names::kEmission));
+  EXPECT_NE(errorOf(*medium).find("grid 'emission': holds int32 values, expected vec3s"), std::string::npos) << errorOf(*medium);
 }
 
 TEST(Emission, UnknownConventionIsRefused) {

@@ -102,7 +102,7 @@ TEST(GridMapping, RulesParseAndPrintBack) {
 TEST(GridMapping, MalformedRulesSayWhy) {
   EXPECT_NE(ruleError("albedo").find("expected ROLE=GRID"), std::string::npos);
   EXPECT_NE(ruleError("colour=Cd").find("'colour' is not a grid of the medium contract"), std::string::npos);
-  EXPECT_NE(ruleError("density=a,b,c").find("only albedo is made from three grids"), std::string::npos);
+  EXPECT_NE(ruleError("density=a,b,c").find("only albedo and emission are made from three grids"), std::string::npos);
   EXPECT_NE(ruleError("albedo=a,b").find("expected one grid, or three"), std::string::npos);
   EXPECT_NE(ruleError("albedo=").find("a grid name is empty"), std::string::npos);
   EXPECT_NE(ruleError("density=density/rho").find("only albedo is divided by a grid"), std::string::npos);
@@ -146,6 +146,26 @@ TEST(GridMapping, ScalesAndGreyAlbedo) {
   EXPECT_EQ(medium->density->tree().getValue(Coord(1, 2, 3)), 1.0f);
   const Coord ijk(0, 3, 0);
   EXPECT_EQ(medium->albedo->tree().getValue(ijk), Vec3s(ForeignFile::colourAt(ijk)[1]));
+}
+
+// emission=Cd:2 and emission=color_g (a flame-like float grid, grey): the contract's RGB emission
+// (docs/medium.md §3b), voxel for voxel, with the scale; a negative value is refused naming the rule.
+TEST(GridMapping, EmissionFromAColourOrAGreyGrid) {
+  const ForeignFile file;
+  const MediumPtr rgb = readMedium(file.path, mappingOf({"emission=Cd:2"}));
+  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(*rgb, grid_names::kEmission);
+  ASSERT_TRUE(emission);
+  for (auto v = rgb->density->cbeginValueOn(); v; ++v)
+    EXPECT_EQ(emission->tree().getValue(v.getCoord()), ForeignFile::colourAt(v.getCoord()) * 2.0f) << v.getCoord();
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*rgb, "Cd"));
+  const MediumPtr grey = readMedium(file.path, mappingOf({"emission=color_g"}));
+  const auto grey_emission = findOtherGrid<openvdb::Vec3SGrid>(*grey, grid_names::kEmission);
+  ASSERT_TRUE(grey_emission) << "a float emission is read as RGB";
+  EXPECT_EQ(grey_emission->tree().getValue(Coord(0, 3, 0)), Vec3s(ForeignFile::colourAt(Coord(0, 3, 0))[1]));
+  const MediumPtr three = readMedium(file.path, mappingOf({"emission=color_r,color_g,color_b"}));
+  EXPECT_EQ(findOtherGrid<openvdb::Vec3SGrid>(*three, grid_names::kEmission)->tree().getValue(Coord(1, 2, 3)),
+            ForeignFile::colourAt(Coord(1, 2, 3)));
+  EXPECT_NE(ruleError("emission=flame/density").find("only albedo is divided by a grid"), std::string::npos);
 }
 
 // albedo=.../density: a colour premultiplied by the density (Mantaflow's color_r, _g, _b) divided
@@ -389,8 +409,9 @@ TEST(GridMapping, EmissionGridsAreNamedInANote) {
   }
   test::writeRawVdb(path, grids);
   const MediumPtr fire = readMedium(path);
-  EXPECT_EQ(allNotes(*fire), path + ": 'flame', 'temperature' hold emission, which the medium contract does not "
-                                    "have yet: not rendered\n");
+  EXPECT_EQ(allNotes(*fire), path + ": 'flame', 'temperature' hold fire, not read: --grid emission=flame:STRENGTH "
+                                    "reads a grid as the medium's emission (docs/medium.md section 3b)\n");
+  EXPECT_TRUE(readMedium(path, mappingOf({"emission=flame:4"}))->read_notes.empty()) << "mapped: no note";
   EXPECT_TRUE(readMedium(path, presetOf(GridPreset::kNone))->read_notes.empty());
   auto albedo = openvdb::Vec3SGrid::create(Vec3s(0.0f));
   albedo->tree().setValue(Coord(0, 0, 0), Vec3s(0.5f));
