@@ -34,10 +34,14 @@ nlohmann::json infoJson(const MediumInfo& info, const std::string& file) {
   for (const auto& [name, value] : info.metadata) metadata[name] = value;
   nlohmann::json albedo = nullptr;
   if (info.albedo) albedo = {rangeJson((*info.albedo)[0]), rangeJson((*info.albedo)[1]), rangeJson((*info.albedo)[2])};
+  nlohmann::json emission = nullptr;
+  if (info.emission)
+    emission = {{"convention", info.emission_convention},
+                {"channels", {rangeJson((*info.emission)[0]), rangeJson((*info.emission)[1]), rangeJson((*info.emission)[2])}}};
   return {{"file", file}, {"tool", kTool}, {"version", kVersion}, {"grids", grids}, {"metadata", metadata},
           {"voxel_size", info.voxel_size}, {"world_box", {{"min", info.world_min}, {"max", info.world_max}}},
           {"active_voxels", info.active_voxels}, {"density", rangeJson(info.density)}, {"albedo", albedo},
-          {"notes", info.notes}, {"render_command", info.render_command}};
+          {"emission", emission}, {"notes", info.notes}, {"render_command", info.render_command}};
 }
 
 std::string rangeText(const ValueRange& r) { return fmt::format("{:.4g} .. {:.4g}, mean {:.4g}", r.min, r.max, r.mean); }
@@ -53,6 +57,9 @@ void printInfo(const MediumInfo& info, const std::string& file) {
   fmt::print("density     {} ({} active voxels)\n", rangeText(info.density), info.active_voxels);
   if (info.albedo)
     fmt::print("albedo      R {}; G {}; B {}\n", rangeText((*info.albedo)[0]), rangeText((*info.albedo)[1]), rangeText((*info.albedo)[2]));
+  if (info.emission)
+    fmt::print("emission    R {}; G {}; B {} ({})\n", rangeText((*info.emission)[0]), rangeText((*info.emission)[1]),
+               rangeText((*info.emission)[2]), info.emission_convention);
   for (const std::string& note : info.notes) fmt::print("note: {}\n", note);
   fmt::print("render:\n  {}\n", info.render_command);
 }
@@ -61,7 +68,7 @@ void printInfo(const MediumInfo& info, const std::string& file) {
 
 int main(int argc, char** argv) {
   CLI::App app("Says what the tools make of a medium file: each grid's role or why no tool reads it, the world box, "
-               "voxel size, density and albedo ranges, and a vdb_render command line that frames it.",
+               "voxel size, density, albedo and emission ranges, and a vdb_render command line that frames it.",
                kTool);
   app.footer(kExamples);
   app.set_version_flag("--version", kVersion);

@@ -1,5 +1,6 @@
 #include "libvdbappear/io/medium_info.h"
 
+#include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium.h"
 
@@ -104,6 +105,19 @@ void describeValues(const Medium& medium, MediumInfo& info) {
     info.notes.push_back("no 'albedo' grid: albedo 1 everywhere, a white medium that absorbs nothing; under a white sky "
                          "alone (--env 1) it vanishes into the background; vdb_render's default lights (a dim sky and "
                          "a sun) show it");
+  }
+  if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission)) {
+    std::array<ValueRange, 3> ranges;
+    for (int c = 0; c < 3; ++c) ranges[std::size_t(c)] = rangeOf(*emission, [c](const openvdb::Vec3s& v) { return double(v[c]); });
+    info.emission = ranges;
+    const EmissionConvention convention = emissionConvention(medium);
+    info.emission_convention = emissionConventionName(convention);
+    info.notes.push_back(convention == EmissionConvention::kCycles
+                             ? "the medium emits light, per unit length whatever its density (emission_convention "
+                               "cycles, docs/medium.md section 3b); vdb_render --env 0 shows its own light alone"
+                             : "the medium emits light where it absorbs, sigma_a times the 'emission' radiance "
+                               "(emission_convention pbrt, docs/medium.md section 3b); vdb_render --env 0 shows its "
+                               "own light alone");
   }
   for (const GridRole& g : info.grids)
     if (!g.used) info.notes.push_back(fmt::format("grid '{}' is not read by any tool (see above)", g.name));

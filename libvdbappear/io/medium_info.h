@@ -33,6 +33,8 @@ struct MediumInfo {
   std::uint64_t active_voxels = 0;                 // of the density grid
   ValueRange density;
   std::optional<std::array<ValueRange, 3>> albedo;  // per channel; none: albedo 1 everywhere
+  std::optional<std::array<ValueRange, 3>> emission;  // per channel; none: nothing emits (docs/medium.md §3b)
+  std::string emission_convention;                    // cycles or pbrt, with an emission grid
   std::vector<std::string> notes;                   // what a user should know before rendering
   std::string render_command;                       // vdb_render FILE -o NAME.png --camera-... (POSIX-shell quoted)
 };

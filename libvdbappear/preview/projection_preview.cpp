@@ -1,5 +1,6 @@
 #include "libvdbappear/preview/projection_preview.h"
 
+#include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/util/progress.h"
 
@@ -22,13 +23,20 @@ class VoxelLookup {
       : density_(m.density->getConstAccessor()),
         albedo_(m.albedo ? std::optional(m.albedo->getConstAccessor()) : std::nullopt),
         diag_(m.sggx_diag ? std::optional(m.sggx_diag->getConstAccessor()) : std::nullopt),
-        offdiag_(m.sggx_offdiag ? std::optional(m.sggx_offdiag->getConstAccessor()) : std::nullopt) {}
+        offdiag_(m.sggx_offdiag ? std::optional(m.sggx_offdiag->getConstAccessor()) : std::nullopt) {
+    if (const auto e = findOtherGrid<openvdb::Vec3SGrid>(m, grid_names::kEmission)) emission_.emplace(e->getConstAccessor());
+  }
 
   float density(const openvdb::Coord& c) const { return density_.getValue(c); }
   Vec3 albedo(const openvdb::Coord& c) const {
     if (!albedo_) return Vec3::Ones();
     const openvdb::Vec3s a = albedo_->getValue(c);
     return Vec3(a[0], a[1], a[2]);
+  }
+  bool emits() const { return bool(emission_); }
+  Vec3 emission(const openvdb::Coord& c) const {  // inactive voxels emit nothing
+    openvdb::Vec3s e(0.0f);
+    return emission_ && emission_->probeValue(c, e) ? Vec3(e[0], e[1], e[2]) : Vec3(Vec3::Zero());
   }
   // sqrt(w^T S w): the projected area of the flakes toward w (S = I without SGGX grids).
   double sigma(const openvdb::Coord& c, const Vec3& w) const {
@@ -42,7 +50,7 @@ class VoxelLookup {
 
  private:
   openvdb::FloatGrid::ConstAccessor density_;
-  std::optional<openvdb::Vec3SGrid::ConstAccessor> albedo_, diag_, offdiag_;
+  std::optional<openvdb::Vec3SGrid::ConstAccessor> albedo_, diag_, offdiag_, emission_;
 };
 
 openvdb::Coord nearestVoxel(const Vec3& index) {
@@ -91,7 +99,12 @@ std::optional<std::pair<double, double>> clipToBox(const Vec3& o, const Vec3& d,
 }  // namespace
 
 RgbImage renderPreview(const Medium& medium, const PreviewOptions& options, ProgressBar* progress) {
-  const openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
+  openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
+  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission);
+  if (emission) box.expand(emission->evalActiveVoxelBoundingBox());  // a flame may reach beyond the smoke
+  // The medium's own light over one step (docs/medium.md §3b): E dt, or under pbrt's convention the
+  // absorbed share of the step's extinction times Le.
+  const bool per_length = !emission || emissionConvention(medium) == EmissionConvention::kCycles;
   const Vec3 lo = Vec3(box.min().x(), box.min().y(), box.min().z()) - Vec3::Constant(0.5);
   const Vec3 hi = Vec3(box.max().x(), box.max().y(), box.max().z()) + Vec3::Constant(0.5);
   // Index space is world space scaled by the voxel size (media have linear, axis-aligned transforms).
@@ -123,6 +136,12 @@ RgbImage renderPreview(const Medium& medium, const PreviewOptions& options, Prog
             const Vec3 p = origin + t * cam.forward;
             const openvdb::Coord c = nearestVoxel(p);
             const double tau = optical_depth(c, cam.forward, step);
+            if (voxels.emits()) {
+              const Vec3 e = voxels.emission(c);
+              radiance += transmittance * (per_length ? Vec3(e * step * voxel_size)
+                                                      : Vec3((1 - std::exp(-tau)) *
+                                                             (Vec3::Ones() - voxels.albedo(c)).cwiseProduct(e)));
+            }
             if (tau <= 0) continue;
             double shadow = 0;
             for (double s = 1; s <= options.shadow_voxels; s += 1)

@@ -1,6 +1,6 @@
 #pragma once
 // A quick look at a medium without a path tracer: an orthographic view of the medium that absorbs
-// and emits its albedo, shaded by a short shadow march toward a light (local occlusion only, no
+// and emits its albedo, plus its own light where it has an `emission` grid (docs/medium.md §3b), shaded by a short shadow march toward a light (local occlusion only, no
 // multiple scattering). For pictures and sanity checks, never for measurements: vdb_render is the
 // instrument.
 

@@ -3,6 +3,8 @@
 #include "libvdbappear/downsample/naive_downsample.h"
 #include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_info.h"
+#include "libvdbappear/preview/projection_preview.h"
 #include "libvdbappear/procedural/random_medium.h"
 
 #include "support/medium_testing.h"
@@ -133,6 +135,30 @@ TEST(Emission, DownsamplingAveragesTheChildren) {
     }
     EXPECT_GT(checked, 500) << emissionConventionName(convention);
   }
+}
+
+// vdb_info and vdb_preview see the emission: its ranges and convention; a flame beside the smoke
+// (emission where the density is 0) lies in the preview's frame and glows there. Negative control:
+// the same medium with its emission grid at 0 is the background there.
+TEST(Emission, InfoAndPreviewShowIt) {
+  auto medium = test::cube(8, 1.0, 2.0f, 0.5f);
+  medium->other_grids.push_back(emissionOver(*medium, openvdb::CoordBBox(Coord(10, 0, 0), Coord(17, 7, 7)), Rgb(3, 2, 1)));
+  const MediumInfo info = describeMedium(*medium, "glow.vdb");
+  ASSERT_TRUE(info.emission);
+  EXPECT_EQ((*info.emission)[0].max, 3.0);
+  EXPECT_EQ((*info.emission)[2].mean, 1.0);
+  EXPECT_EQ(info.emission_convention, "cycles");
+  PreviewOptions options;
+  options.width = 64;
+  options.view = Vec3(0, 0, -1);  // straight down: x across the image
+  const RgbImage glow = renderPreview(*medium, options);
+  auto dark = std::make_shared<Medium>(*medium);
+  dark->other_grids = {emissionOver(*medium, openvdb::CoordBBox(Coord(10, 0, 0), Coord(17, 7, 7)), Rgb::Zero())};
+  const RgbImage unlit = renderPreview(*dark, options);
+  const int x = glow.width * 13 / 18, y = glow.height / 2;  // index x about 13 of the box -0.5 .. 17.5
+  EXPECT_NEAR(glow.at(x, y)[0], 0.18 + 3.0 * 8 / 8, 0.05) << "E times the length crossed (8 voxels of 1/8), on the background";
+  EXPECT_GT(glow.at(x, y)[0], glow.at(x, y)[2]);
+  EXPECT_NEAR(unlit.at(x, y)[0], 0.18, 1e-6);
 }
 
 MediumPtr densityCube() { return test::cube(4, 1.0, 1.0f, 0.5f); }
