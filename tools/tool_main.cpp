@@ -88,7 +88,8 @@ void addGridMapping(CLI::App& app, GridMapping& mapping) {
          },
          "read foreign grids as the medium's: ROLE=GRID (albedo=Cd), albedo=R,G,B (three float grids), "
          "albedo=.../GRID (a colour times density, divided by it: albedo=color_r,color_g,color_b/density), "
-         "ROLE=GRID:SCALE (density=density:0.5, emission=flame:5); repeatable; roles density, albedo, hg_g, "
+         "ROLE=GRID:SCALE (density=density:0.5, emission=flame:5), emission=blackbody:GRID[:KELVIN[:INTENSITY]] "
+         "(Cycles' blackbody light of a temperature grid); repeatable; roles density, albedo, hg_g, "
          "sggx_diag, sggx_offdiag, emission (docs/medium.md sections 3b, 12)")
       ->type_name("ROLE=GRID");
   app.add_option_function<std::string>(

@@ -43,9 +43,31 @@ double parseScale(const std::string& text, const std::string& rule) {
   return scale;
 }
 
+constexpr const char* kBlackbodyPrefix = "blackbody:";
+
+// emission=blackbody:GRID[:KELVIN[:INTENSITY]] (medium/blackbody.h).
+GridRule parseBlackbodyRule(const std::string& text, const std::string& parameters) {
+  GridRule rule;
+  rule.role = grid_names::kEmission;
+  rule.blackbody = true;
+  const std::vector<std::string> parts = split(parameters, ':');
+  if (parts.size() > 3 || parts[0].empty() || parts[0].find_first_of(",/") != std::string::npos)
+    throw std::invalid_argument(fmt::format("'{}': expected emission=blackbody:GRID[:KELVIN[:INTENSITY]]", text));
+  rule.sources = {parts[0]};
+  if (parts.size() > 1) rule.kelvin = parseScale(parts[1], text);
+  if (parts.size() > 2) {
+    rule.intensity = parseScale(parts[2], text);
+    if (rule.intensity > 1)
+      throw std::invalid_argument(fmt::format("'{}': the blackbody intensity '{}' is not in (0, 1]", text, parts[2]));
+  }
+  return rule;
+}
+
 }  // namespace
 
 GridRule parseGridRule(const std::string& text) {
+  const std::string blackbody = std::string(grid_names::kEmission) + "=" + kBlackbodyPrefix;
+  if (text.rfind(blackbody, 0) == 0) return parseBlackbodyRule(text, text.substr(blackbody.size()));
   const std::size_t equals = text.find('=');
   if (equals == std::string::npos)
     throw std::invalid_argument(fmt::format("'{}': expected ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE]", text));
@@ -79,6 +101,12 @@ GridRule parseGridRule(const std::string& text) {
 }
 
 std::string gridRuleText(const GridRule& rule) {
+  if (rule.blackbody) {
+    std::string text = fmt::format("{}={}{}", rule.role, kBlackbodyPrefix, rule.sources.front());
+    if (rule.kelvin != 1000 || rule.intensity != 1) text += fmt::format(":{}", rule.kelvin);
+    if (rule.intensity != 1) text += fmt::format(":{}", rule.intensity);
+    return text;
+  }
   std::string text = fmt::format("{}={}", rule.role, fmt::join(rule.sources, ","));
   if (!rule.divisor.empty()) text += "/" + rule.divisor;
   if (rule.scale != 1) text += fmt::format(":{}", rule.scale);

@@ -13,11 +13,16 @@ namespace vdbappear {
 // role's type (albedo: a float grid is grey), or three float grids as R, G, B (albedo only).
 // With a `divisor` (albedo only), each voxel is divided by that float grid's value there: a colour
 // premultiplied by the density, as Mantaflow writes it (docs/medium.md §12).
+// Or (emission only, `blackbody`) the one source is a temperature attribute, made into light as
+// Blender Cycles' Principled Volume does with Temperature `kelvin` (kelvin per unit of the grid) and
+// Blackbody Intensity `intensity` (medium/blackbody.h): "emission=blackbody:temperature[:K[:I]]".
 struct GridRule {
   std::string role;
   std::vector<std::string> sources;
   std::string divisor;  // empty: none
   double scale = 1;
+  bool blackbody = false;
+  double kelvin = 1000, intensity = 1;
 };
 
 // The grid conventions of other programs (docs/medium.md §12, io/grid_presets.h): kBlender reads
@@ -38,8 +43,8 @@ GridPreset parseGridPreset(const std::string& name);
 const char* gridPresetName(GridPreset preset);
 
 // Parses ROLE=GRID[,GRID,GRID][/DIVISOR][:SCALE] ("albedo=Cd", "albedo=color_r,color_g,color_b",
-// "albedo=color_r,color_g,color_b/density", "density=density:0.5"). Throws std::invalid_argument
-// with the reason.
+// "albedo=color_r,color_g,color_b/density", "density=density:0.5") and
+// emission=blackbody:GRID[:KELVIN[:INTENSITY]]. Throws std::invalid_argument with the reason.
 GridRule parseGridRule(const std::string& text);
 
 // The rule as parseGridRule reads it back.

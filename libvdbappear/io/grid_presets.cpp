@@ -54,7 +54,32 @@ std::optional<PresetRule> albedoRule(const openvdb::GridPtrVec& grids, GridPrese
   return std::nullopt;
 }
 
+// Blender's fire: a float `temperature` (a Mantaflow cache's, which Cycles reads on a Volume object
+// by that name) read as Quick Smoke's fire material reads it: Principled Volume with Blackbody
+// Intensity 1 and Temperature 1000 K, so 1000 K per unit of the grid (docs/medium.md §12).
+std::optional<PresetRule> blenderFire(const openvdb::GridPtrVec& grids) {
+  if (!hasGrid<openvdb::FloatGrid>(grids, "temperature") || hasAnyGrid(grids, grid_names::kEmission)) return std::nullopt;
+  return PresetRule{parseGridRule("emission=blackbody:temperature"),
+                    "Blender's fire (Quick Smoke's Principled Volume: blackbody at 1000 K per unit of 'temperature')"};
+}
+
+std::optional<PresetRule> emissionRule(const openvdb::GridPtrVec& grids, GridPreset preset) {
+  switch (preset) {
+    case GridPreset::kBlender: return blenderFire(grids);
+    case GridPreset::kAuto:
+      if (hasAnyGrid(grids, grid_names::kAlbedo)) return std::nullopt;  // a medium of the contract
+      return blenderFire(grids);
+    case GridPreset::kHoudini:  // Houdini's pyro shaders map temperature through ramps of their own
+    case GridPreset::kNone: break;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+bool mapsEmission(const std::vector<GridRule>& rules) {
+  return std::any_of(rules.begin(), rules.end(), [](const GridRule& rule) { return rule.role == grid_names::kEmission; });
+}
 
 bool mapsAlbedo(const std::vector<GridRule>& rules) {
   return std::any_of(rules.begin(), rules.end(), [](const GridRule& rule) { return rule.role == grid_names::kAlbedo; });
@@ -65,6 +90,8 @@ std::vector<PresetRule> presetRules(const openvdb::GridPtrVec& grids, GridPreset
   std::vector<PresetRule> rules;
   if (!mapsAlbedo(explicit_rules))
     if (auto rule = albedoRule(grids, preset)) rules.push_back(std::move(*rule));
+  if (!mapsEmission(explicit_rules))
+    if (auto rule = emissionRule(grids, preset)) rules.push_back(std::move(*rule));
   return rules;
 }
 

@@ -7,6 +7,8 @@
 //   scatters with density x colour and absorbs density x (1 - colour): the colour is the albedo.
 // - Blender, Volume object: a vec3s `color`, the same colour undivided: albedo=color.
 // - Houdini: a vec3s `Cd`: albedo=Cd.
+// - Blender, fire: a float `temperature`: emission=blackbody:temperature, Quick Smoke's fire material
+//   (Principled Volume, Blackbody Intensity 1, Temperature 1000 K).
 // Every convention names its density `density`, the contract's own name.
 
 #include "libvdbappear/io/grid_mapping.h"
@@ -25,12 +27,14 @@ struct PresetRule {
   std::string convention;
 };
 
-// Does one of `rules` make the albedo? Then no preset does.
+// Does one of `rules` make the albedo, the emission? Then no preset does.
 bool mapsAlbedo(const std::vector<GridRule>& rules);
+bool mapsEmission(const std::vector<GridRule>& rules);
 
 // The rules of `preset` that `grids` has the grids for, for the roles `explicit_rules` leave:
-// kBlender the smoke cache's colour, else a Volume object's; kHoudini `Cd`; kAuto the first of
-// these the file has, and none when it has an `albedo` grid already; kNone none.
+// kBlender the smoke cache's colour, else a Volume object's, and its fire; kHoudini `Cd`; kAuto the
+// first colour of these the file has and Blender's fire, and none when it has an `albedo` grid
+// already; kNone none.
 std::vector<PresetRule> presetRules(const openvdb::GridPtrVec& grids, GridPreset preset,
                                     const std::vector<GridRule>& explicit_rules);
 

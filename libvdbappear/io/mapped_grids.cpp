@@ -3,6 +3,7 @@
 #include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/medium/blackbody.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
@@ -100,8 +101,33 @@ openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>&
   return rgb;
 }
 
+// emission=blackbody:GRID: each active value of the temperature attribute made into light as Cycles'
+// Principled Volume does (medium/blackbody.h); inactive voxels emit nothing.
+openvdb::Vec3SGrid::Ptr blackbodyEmission(const openvdb::FloatGrid& temperature, const GridRule& rule) {
+  auto emission = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+  emission->setName(rule.role);
+  emission->setTransform(temperature.transform().copy());
+  emission->tree().topologyUnion(temperature.tree());
+  const BlackbodyTable table;
+  const PrincipledBlackbody settings{rule.kelvin, rule.intensity, Rgb::Ones()};
+  struct Fill {
+    openvdb::FloatGrid::ConstAccessor temperature;
+    const BlackbodyTable* table;
+    PrincipledBlackbody settings;
+    void operator()(const openvdb::Vec3SGrid::ValueOnIter& it) const {
+      const Rgb e = principledBlackbodyEmission(temperature.getValue(it.getCoord()), settings, *table);
+      it.setValue(openvdb::Vec3s(float(e[0]), float(e[1]), float(e[2])));
+    }
+  };
+  openvdb::tools::foreach(emission->beginValueOn(), Fill{temperature.getConstAccessor(), &table, settings},
+                          /*threaded=*/true, /*shareOp=*/false);
+  return emission;
+}
+
 openvdb::GridBase::Ptr undividedGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
   namespace names = grid_names;
+  if (rule.blackbody)
+    return blackbodyEmission(*sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources.front(), source), rule);
   if (rule.sources.size() == 3) {
     std::array<openvdb::FloatGrid::Ptr, 3> channels;
     for (int c = 0; c < 3; ++c) channels[c] = sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources[c], source);
@@ -216,12 +242,14 @@ MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping
   const std::vector<PresetRule> preset = presetRules(grids, mapping.preset, mapping.rules);
   for (const PresetRule& p : preset) mapper.applyPreset(p, mapping.preset);
   const bool named = mapping.preset == GridPreset::kBlender || mapping.preset == GridPreset::kHoudini;
-  if (named && preset.empty() && !mapsAlbedo(mapping.rules))
+  const auto makes = [&preset](const char* role) {
+    return std::any_of(preset.begin(), preset.end(), [role](const PresetRule& p) { return p.rule.role == role; });
+  };
+  if (named && !makes(grid_names::kAlbedo) && !mapsAlbedo(mapping.rules))
     mapper.note(fmt::format("--from {}: none of its colour grids ({}): the grids are read as they are",
                             gridPresetName(mapping.preset),
                             mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
-  const bool maps_emission = std::any_of(mapping.rules.begin(), mapping.rules.end(),
-                                         [](const GridRule& rule) { return rule.role == grid_names::kEmission; });
+  const bool maps_emission = mapsEmission(mapping.rules) || makes(grid_names::kEmission);
   if (mapping.preset != GridPreset::kNone && !maps_emission && isForeignFile(grids, mapping.preset))
     if (auto unread = unreadConventionGrids(grids)) mapper.note(*unread);
   return mapper.finish();

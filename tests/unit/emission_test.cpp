@@ -2,8 +2,11 @@
 // the downsampler against a direct average of the children, and the reader's checks.
 #include "libvdbappear/downsample/naive_downsample.h"
 #include "libvdbappear/io/emission_convention.h"
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_info.h"
+#include "libvdbappear/math/constants.h"
+#include "libvdbappear/medium/blackbody.h"
 #include "libvdbappear/preview/projection_preview.h"
 #include "libvdbappear/procedural/random_medium.h"
 
@@ -159,6 +162,98 @@ TEST(Emission, InfoAndPreviewShowIt) {
   EXPECT_NEAR(glow.at(x, y)[0], 0.18 + 3.0 * 8 / 8, 0.05) << "E times the length crossed (8 voxels of 1/8), on the background";
   EXPECT_GT(glow.at(x, y)[0], glow.at(x, y)[2]);
   EXPECT_NEAR(unlit.at(x, y)[0], 0.18, 1e-6);
+}
+
+double luminance(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+// The blackbody colour against Blender 3.4 Cycles' Blackbody node (an emission plane rendered at each
+// temperature, 2026-11-28), from 2000 K up within 2% per channel; luminance 1 at every temperature
+// (Rec.709 weights); redder when cooler. Cycles fits the same curve: below 2000 K the two part more
+// (red -2.7% at 1500 K, -6.1% at 1000 K), where a fire's light is 20 to 80 times dimmer than at 3000 K.
+TEST(Blackbody, ColourMatchesCyclesAndHasLuminanceOne) {
+  const struct {
+    double kelvin;
+    Rgb cycles;
+  } cases[] = {{2000, {2.5201, 0.6469, 0.0204}}, {2500, {2.0676, 0.7693, 0.1394}}, {3000, {1.7708, 0.8443, 0.2722}},
+               {4000, {1.4141, 0.9236, 0.5337}}, {6500, {1.0426, 0.9841, 1.0353}}, {12000, {0.8263, 0.9945, 1.5663}}};
+  const BlackbodyTable table;
+  for (const auto& c : cases) {
+    const Rgb colour = blackbodyColour(c.kelvin);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(colour[k], c.cycles[k], 0.02 * c.cycles[k] + 2e-3) << c.kelvin << " K, channel " << k;
+    EXPECT_NEAR(luminance(colour), 1.0, 2e-3) << c.kelvin << " K";
+    EXPECT_NEAR((table(c.kelvin + 2.5) - blackbodyColour(c.kelvin + 2.5)).abs().maxCoeff(), 0.0, 1e-4) << "table";
+  }
+  EXPECT_GT(blackbodyColour(1500)[0] / blackbodyColour(1500)[1], 5 * blackbodyColour(6500)[0] / blackbodyColour(6500)[1]);
+  EXPECT_EQ(blackbodyColour(20000)[2], blackbodyColour(12000)[2]) << "clamped as Cycles does";
+}
+
+// Principled Volume's blackbody light: luminance sigma / pi 1e-6 T^4 (Stefan-Boltzmann) at intensity 1,
+// so twice the temperature is 16 times the light; at intensity 0.5 the mix with 1; none at 0 kelvin.
+TEST(Blackbody, PrincipledEmissionFollowsStefanBoltzmann) {
+  const BlackbodyTable table;
+  const double sigma = 5.670373e-8 * 1e-6 / kPi;
+  const PrincipledBlackbody fire;  // 1000 K per unit, intensity 1
+  const Rgb at3000 = principledBlackbodyEmission(3.0, fire, table), at6000 = principledBlackbodyEmission(6.0, fire, table);
+  EXPECT_NEAR(luminance(at3000), sigma * std::pow(3000.0, 4), 3e-3 * luminance(at3000));
+  EXPECT_NEAR(luminance(at6000) / luminance(at3000), 16 * luminance(blackbodyColour(6000)) / luminance(blackbodyColour(3000)), 1e-9);
+  PrincipledBlackbody half = fire;
+  half.intensity = 0.5;
+  EXPECT_NEAR(luminance(principledBlackbodyEmission(3.0, half, table)), sigma * (0.5 + 0.5 * std::pow(3000.0, 4)),
+              3e-3 * luminance(at3000));
+  EXPECT_EQ(principledBlackbodyEmission(0.0, fire, table).maxCoeff(), 0.0);
+  EXPECT_EQ(principledBlackbodyEmission(-1.0, fire, table).maxCoeff(), 0.0);
+  EXPECT_GE(principledBlackbodyEmission(1.2, fire, table).minCoeff(), 0.0) << "negative blue clamped";
+}
+
+// emission=blackbody:GRID[:K[:I]]: parsed and printed back; a temperature grid made into light voxel
+// by voxel; and Blender's preset reads a fire's `temperature` so, with a note. Negative control:
+// --from none leaves the medium dark.
+TEST(Blackbody, TemperatureGridBecomesEmission) {
+  const GridRule rule = parseGridRule("emission=blackbody:temperature:1500:0.5");
+  EXPECT_TRUE(rule.blackbody);
+  EXPECT_EQ(rule.sources, std::vector<std::string>{"temperature"});
+  EXPECT_EQ(rule.kelvin, 1500);
+  EXPECT_EQ(rule.intensity, 0.5);
+  for (const char* text : {"emission=blackbody:temperature", "emission=blackbody:t:1500", "emission=blackbody:t:1000:0.5"})
+    EXPECT_EQ(gridRuleText(parseGridRule(text)), text);
+  for (const char* bad : {"emission=blackbody:", "emission=blackbody:t:0", "emission=blackbody:t:1000:2",
+                          "emission=blackbody:a,b", "emission=blackbody:t:1:1:1"})
+    EXPECT_THROW(parseGridRule(bad), std::invalid_argument) << bad;
+
+  test::TempDir dir;
+  const std::string path = dir.path("fire.vdb");
+  auto transform = openvdb::math::Transform::createLinearTransform(0.1);
+  auto density = openvdb::FloatGrid::create(0.0f), temperature = openvdb::FloatGrid::create(0.0f);
+  for (int x = 0; x < 4; ++x) {
+    density->tree().setValueOn(Coord(x, 0, 0), 0.5f);
+    temperature->tree().setValueOn(Coord(x, 0, 0), 1.5f + 0.5f * x);
+  }
+  density->setName("density");
+  temperature->setName("temperature");
+  density->setTransform(transform);
+  temperature->setTransform(transform);
+  test::writeRawVdb(path, {density, temperature});
+  const MediumPtr fire = readMedium(path);  // --from auto: a foreign file
+  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(*fire, grid_names::kEmission);
+  ASSERT_TRUE(emission);
+  const BlackbodyTable table;
+  for (int x = 0; x < 4; ++x) {
+    const Rgb expected = principledBlackbodyEmission(1.5 + 0.5 * x, PrincipledBlackbody(), table);
+    const Vec3s e = emission->tree().getValue(Coord(x, 0, 0));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(e[k], expected[k], 1e-5 * (1 + expected[k])) << x << ", channel " << k;
+  }
+  ASSERT_EQ(fire->read_notes.size(), 1u);
+  EXPECT_NE(fire->read_notes[0].find("Blender's fire (Quick Smoke's Principled Volume: blackbody at 1000 K per unit of "
+                                     "'temperature'): read as --grid emission=blackbody:temperature"),
+            std::string::npos)
+      << fire->read_notes[0];
+  GridMapping none;
+  none.preset = GridPreset::kNone;
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, none), grid_names::kEmission));
+  GridMapping houdini;
+  houdini.preset = GridPreset::kHoudini;
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, houdini), grid_names::kEmission));
 }
 
 MediumPtr densityCube() { return test::cube(4, 1.0, 1.0f, 0.5f); }

@@ -395,8 +395,10 @@ TEST(GridMapping, DetectedColourOutsideTheAlbedoRangeIsLeftWithANote) {
   }
 }
 
-// Fire grids of both programs are named in a note (no tool renders emission yet); --from none is
-// silent, and so is a medium of the contract (with an albedo grid) that carries such a grid.
+// Fire grids that no rule reads are named in a note: under --from houdini (no fire preset), or in a
+// Blender file without `temperature`, which Blender's preset reads as blackbody light (emission_test.cpp).
+// --from none is silent, and so are a mapped emission and a medium of the contract (with an albedo
+// grid) that carries such a grid.
 TEST(GridMapping, EmissionGridsAreNamedInANote) {
   TempDir dir;
   const std::string path = dir.path("fire.vdb");
@@ -408,11 +410,19 @@ TEST(GridMapping, EmissionGridsAreNamedInANote) {
     grids.push_back(grid);
   }
   test::writeRawVdb(path, grids);
-  const MediumPtr fire = readMedium(path);
-  EXPECT_EQ(allNotes(*fire), path + ": 'flame', 'temperature' hold fire, not read: --grid emission=flame:STRENGTH "
-                                    "reads a grid as the medium's emission (docs/medium.md section 3b)\n");
+  const std::string unread = ": 'flame', 'temperature' hold fire, not read: --grid emission=flame:STRENGTH reads a "
+                             "grid as the medium's emission (docs/medium.md section 3b)\n";
+  EXPECT_EQ(allNotes(*readMedium(path, presetOf(GridPreset::kHoudini))),
+            path + ": --from houdini: none of its colour grids (Cd): the grids are read as they are\n" + path + unread);
+  EXPECT_NE(allNotes(*readMedium(path)).find("read as --grid emission=blackbody:temperature"), std::string::npos);
+  EXPECT_EQ(allNotes(*readMedium(path)).find("hold fire, not read"), std::string::npos) << "the preset reads the fire";
   EXPECT_TRUE(readMedium(path, mappingOf({"emission=flame:4"}))->read_notes.empty()) << "mapped: no note";
   EXPECT_TRUE(readMedium(path, presetOf(GridPreset::kNone))->read_notes.empty());
+  grids.erase(grids.begin() + 2);  // no temperature: nothing for Blender's preset
+  const std::string flame_only = dir.path("flame.vdb");
+  test::writeRawVdb(flame_only, grids);
+  EXPECT_EQ(allNotes(*readMedium(flame_only)), flame_only + ": 'flame' holds fire, not read: --grid emission=flame:STRENGTH "
+                                                            "reads a grid as the medium's emission (docs/medium.md section 3b)\n");
   auto albedo = openvdb::Vec3SGrid::create(Vec3s(0.0f));
   albedo->tree().setValue(Coord(0, 0, 0), Vec3s(0.5f));
   albedo->setName("albedo");
