@@ -10,6 +10,8 @@
 #include <openvdb/tools/ValueTransformer.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <array>
 #include <set>
 #include <vector>
@@ -103,7 +105,14 @@ openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>&
 
 // emission=blackbody:GRID: each active value of the temperature attribute made into light as Cycles'
 // Principled Volume does (medium/blackbody.h); inactive voxels emit nothing.
-openvdb::Vec3SGrid::Ptr blackbodyEmission(const openvdb::FloatGrid& temperature, const GridRule& rule) {
+openvdb::Vec3SGrid::Ptr blackbodyEmission(const openvdb::FloatGrid& temperature, const GridRule& rule,
+                                          const std::string& source) {
+  for (auto v = temperature.cbeginValueOn(); v; ++v)  // tree order: the same culprit at every run
+    if (!(*v >= 0 && *v <= FLT_MAX))
+      throw MediumError(fmt::format("{}: grid '{}': temperature {} is {} at {} ({},{},{})", ruleContext(rule, source),
+                                    temperature.getName(), *v, std::isfinite(*v) ? "negative" : "not finite",
+                                    v.isVoxelValue() ? "voxel" : "tile", v.getCoord().x(), v.getCoord().y(),
+                                    v.getCoord().z()));
   auto emission = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
   emission->setName(rule.role);
   emission->setTransform(temperature.transform().copy());
@@ -127,7 +136,7 @@ openvdb::Vec3SGrid::Ptr blackbodyEmission(const openvdb::FloatGrid& temperature,
 openvdb::GridBase::Ptr undividedGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
   namespace names = grid_names;
   if (rule.blackbody)
-    return blackbodyEmission(*sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources.front(), source), rule);
+    return blackbodyEmission(*sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources.front(), source), rule, source);
   if (rule.sources.size() == 3) {
     std::array<openvdb::FloatGrid::Ptr, 3> channels;
     for (int c = 0; c < 3; ++c) channels[c] = sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources[c], source);

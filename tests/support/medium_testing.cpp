@@ -15,9 +15,9 @@ void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, cons
   file.close();
 }
 
-std::string readMediumError(const std::string& path) {
+std::string readMediumError(const std::string& path, const GridMapping& mapping) {
   try {
-    readMedium(path);
+    readMedium(path, mapping);
   } catch (const MediumError& e) {
     return e.what();
   }

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for tests that build, write and compare media with OpenVDB directly.
 
+#include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,7 @@
 namespace vdbappear::test {
 
 // The MediumError message of reading `path` with readMedium, or "" when it reads.
-std::string readMediumError(const std::string& path);
+std::string readMediumError(const std::string& path, const GridMapping& mapping = {});
 
 // Writes grids and metadata with OpenVDB alone (no validation, no history), as another program might.
 void writeRawVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& metadata = {});

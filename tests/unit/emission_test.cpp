@@ -251,6 +251,21 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
   GridMapping none;
   none.preset = GridPreset::kNone;
   EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, none), grid_names::kEmission));
+
+  // A negative temperature: an error naming the rule, the grid and the voxel when asked for; left
+  // out with a note when the preset detected it.
+  temperature->tree().setValueOn(Coord(2, 0, 0), -0.5f);
+  const std::string cold = dir.path("cold.vdb");
+  test::writeRawVdb(cold, {density, temperature});
+  GridMapping asked;
+  addGridRule(asked, parseGridRule("emission=blackbody:temperature"));
+  EXPECT_EQ(test::readMediumError(cold, asked),
+            cold + ": --grid emission=blackbody:temperature: grid 'temperature': temperature -0.5 is negative at voxel (2,0,0)");
+  const MediumPtr detected = readMedium(cold);
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*detected, grid_names::kEmission));
+  ASSERT_EQ(detected->read_notes.size(), 1u);
+  EXPECT_NE(detected->read_notes[0].find("not read as --grid emission=blackbody:temperature"), std::string::npos)
+      << detected->read_notes[0];
   GridMapping houdini;
   houdini.preset = GridPreset::kHoudini;
   EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, houdini), grid_names::kEmission));
