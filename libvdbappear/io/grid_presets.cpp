@@ -56,9 +56,15 @@ std::optional<PresetRule> albedoRule(const openvdb::GridPtrVec& grids, GridPrese
 
 // Blender's fire: a float `temperature` (a Mantaflow cache's, which Cycles reads on a Volume object
 // by that name) read as Quick Smoke's fire material reads it: Principled Volume with Blackbody
-// Intensity 1 and Temperature 1000 K, so 1000 K per unit of the grid (docs/medium.md §12).
+// Intensity 1 and Temperature 1000 K, so 1000 K per unit of the grid (docs/medium.md §12). Only in a
+// fire, one whose `flame` grid has voxels: Mantaflow writes `temperature` (its heat) for smoke too,
+// whose Quick Smoke material has Blackbody Intensity 0.
 std::optional<PresetRule> blenderFire(const openvdb::GridPtrVec& grids) {
   if (!hasGrid<openvdb::FloatGrid>(grids, "temperature") || hasAnyGrid(grids, grid_names::kEmission)) return std::nullopt;
+  const bool burns = std::any_of(grids.begin(), grids.end(), [](const openvdb::GridBase::Ptr& grid) {
+    return grid->getName() == "flame" && grid->isType<openvdb::FloatGrid>() && grid->activeVoxelCount() > 0;
+  });
+  if (!burns) return std::nullopt;
   return PresetRule{parseGridRule("emission=blackbody:temperature"),
                     "Blender's fire (Quick Smoke's Principled Volume: blackbody at 1000 K per unit of 'temperature')"};
 }
@@ -101,14 +107,18 @@ bool isForeignFile(const openvdb::GridPtrVec& grids, GridPreset preset) {
 }
 
 std::optional<std::string> unreadConventionGrids(const openvdb::GridPtrVec& grids) {
-  std::vector<std::string> emission;
+  std::vector<std::string> names;  // the fire and heat grids that hold voxels
   for (const char* name : {"flame", "temperature", "heat"})
-    if (hasAnyGrid(grids, name)) emission.push_back(fmt::format("'{}'", name));
-  if (emission.empty()) return std::nullopt;
-  return fmt::format("{} {} fire, not read: --grid emission={}:STRENGTH reads a grid as the medium's emission "
-                     "(docs/medium.md section 3b)",
-                     fmt::join(emission, ", "), emission.size() == 1 ? "holds" : "hold",
-                     hasAnyGrid(grids, "flame") ? "flame" : emission.front().substr(1, emission.front().size() - 2));
+    if (std::any_of(grids.begin(), grids.end(), [name](const auto& g) { return g->getName() == name && g->activeVoxelCount() > 0; }))
+      names.push_back(name);
+  if (names.empty()) return std::nullopt;
+  const bool temperature = std::find(names.begin(), names.end(), "temperature") != names.end();
+  const std::string how = temperature ? "--grid emission=blackbody:temperature reads it as Cycles' blackbody light"
+                                      : fmt::format("--grid emission={}:STRENGTH reads it as light per unit length", names.front());
+  std::vector<std::string> quoted;
+  for (const std::string& name : names) quoted.push_back(fmt::format("'{}'", name));
+  return fmt::format("{} {} fire or heat, not read as light: {} (docs/medium.md section 3b)", fmt::join(quoted, ", "),
+                     names.size() == 1 ? "holds" : "hold", how);
 }
 
 }  // namespace vdbappear

@@ -35,7 +35,10 @@ std::optional<std::string> foreignGridRole(const std::string& name) {
     return "a channel of a Mantaflow smoke colour, not read: the file has an albedo grid, or --from none; Mantaflow "
            "stores colour times density, and --grid albedo=color_r,color_g,color_b/density divides it back "
            "(docs/medium.md section 12)";
-  if (name == "flame" || name == "temperature" || name == "heat")
+  if (name == "temperature")
+    return "temperature (a fire's, or a smoke's heat), not read: --grid emission=blackbody:temperature reads it as "
+           "Cycles' blackbody light at 1000 K per unit (docs/medium.md section 3b)";
+  if (name == "flame" || name == "heat")
     return fmt::format("fire, not read: --grid emission={}:STRENGTH reads it as the medium's emission per unit "
                        "length (docs/medium.md section 3b)", name);
   if (name == "velocity" || name == "vel" || name.rfind("vel.", 0) == 0 || name.rfind("v.", 0) == 0)

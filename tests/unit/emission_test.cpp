@@ -207,8 +207,8 @@ TEST(Blackbody, PrincipledEmissionFollowsStefanBoltzmann) {
 }
 
 // emission=blackbody:GRID[:K[:I]]: parsed and printed back; a temperature grid made into light voxel
-// by voxel; and Blender's preset reads a fire's `temperature` so, with a note. Negative control:
-// --from none leaves the medium dark.
+// by voxel; and Blender's preset reads a fire's `temperature` so, with a note. Negative controls: a
+// smoke (an empty `flame`) and --from none stay dark.
 TEST(Blackbody, TemperatureGridBecomesEmission) {
   const GridRule rule = parseGridRule("emission=blackbody:temperature:1500:0.5");
   EXPECT_TRUE(rule.blackbody);
@@ -224,16 +224,20 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
   test::TempDir dir;
   const std::string path = dir.path("fire.vdb");
   auto transform = openvdb::math::Transform::createLinearTransform(0.1);
-  auto density = openvdb::FloatGrid::create(0.0f), temperature = openvdb::FloatGrid::create(0.0f);
+  auto density = openvdb::FloatGrid::create(0.0f), temperature = openvdb::FloatGrid::create(0.0f),
+       flame = openvdb::FloatGrid::create(0.0f);
   for (int x = 0; x < 4; ++x) {
     density->tree().setValueOn(Coord(x, 0, 0), 0.5f);
     temperature->tree().setValueOn(Coord(x, 0, 0), 1.5f + 0.5f * x);
   }
   density->setName("density");
   temperature->setName("temperature");
-  density->setTransform(transform);
-  temperature->setTransform(transform);
-  test::writeRawVdb(path, {density, temperature});
+  flame->setName("flame");
+  for (auto& grid : {density, temperature, flame}) grid->setTransform(transform);
+  test::writeRawVdb(dir.path("smoke.vdb"), {density, temperature, flame});  // heat, but no flame: a smoke
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(dir.path("smoke.vdb")), grid_names::kEmission));
+  flame->tree().setValueOn(Coord(1, 0, 0), 0.5f);
+  test::writeRawVdb(path, {density, temperature, flame});
   const MediumPtr fire = readMedium(path);  // --from auto: a foreign file
   const auto emission = findOtherGrid<openvdb::Vec3SGrid>(*fire, grid_names::kEmission);
   ASSERT_TRUE(emission);
@@ -256,7 +260,7 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
   // out with a note when the preset detected it.
   temperature->tree().setValueOn(Coord(2, 0, 0), -0.5f);
   const std::string cold = dir.path("cold.vdb");
-  test::writeRawVdb(cold, {density, temperature});
+  test::writeRawVdb(cold, {density, temperature, flame});
   GridMapping asked;
   addGridRule(asked, parseGridRule("emission=blackbody:temperature"));
   EXPECT_EQ(test::readMediumError(cold, asked),

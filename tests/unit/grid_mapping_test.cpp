@@ -410,19 +410,20 @@ TEST(GridMapping, EmissionGridsAreNamedInANote) {
     grids.push_back(grid);
   }
   test::writeRawVdb(path, grids);
-  const std::string unread = ": 'flame', 'temperature' hold fire, not read: --grid emission=flame:STRENGTH reads a "
-                             "grid as the medium's emission (docs/medium.md section 3b)\n";
+  const std::string unread = ": 'flame', 'temperature' hold fire or heat, not read as light: --grid "
+                             "emission=blackbody:temperature reads it as Cycles' blackbody light (docs/medium.md section 3b)\n";
   EXPECT_EQ(allNotes(*readMedium(path, presetOf(GridPreset::kHoudini))),
             path + ": --from houdini: none of its colour grids (Cd): the grids are read as they are\n" + path + unread);
   EXPECT_NE(allNotes(*readMedium(path)).find("read as --grid emission=blackbody:temperature"), std::string::npos);
-  EXPECT_EQ(allNotes(*readMedium(path)).find("hold fire, not read"), std::string::npos) << "the preset reads the fire";
+  EXPECT_EQ(allNotes(*readMedium(path)).find("not read as light"), std::string::npos) << "the preset reads the fire";
   EXPECT_TRUE(readMedium(path, mappingOf({"emission=flame:4"}))->read_notes.empty()) << "mapped: no note";
   EXPECT_TRUE(readMedium(path, presetOf(GridPreset::kNone))->read_notes.empty());
   grids.erase(grids.begin() + 2);  // no temperature: nothing for Blender's preset
   const std::string flame_only = dir.path("flame.vdb");
   test::writeRawVdb(flame_only, grids);
-  EXPECT_EQ(allNotes(*readMedium(flame_only)), flame_only + ": 'flame' holds fire, not read: --grid emission=flame:STRENGTH "
-                                                            "reads a grid as the medium's emission (docs/medium.md section 3b)\n");
+  EXPECT_EQ(allNotes(*readMedium(flame_only)), flame_only + ": 'flame' holds fire or heat, not read as light: --grid "
+                                                            "emission=flame:STRENGTH reads it as light per unit length "
+                                                            "(docs/medium.md section 3b)\n");
   auto albedo = openvdb::Vec3SGrid::create(Vec3s(0.0f));
   albedo->tree().setValue(Coord(0, 0, 0), Vec3s(0.5f));
   albedo->setName("albedo");
