@@ -7,6 +7,7 @@ Run headless, never imported:
       --camera-pos x,y,z --camera-target x,y,z [--camera-up 0,0,1] [--fov 30] \
       [--env R | --env R,G,B] [--sun DX,DY,DZ,STRENGTH] [--threads T] [--seed S] \
       [--openvdb-voxel-centres] [--force] [--step-rate R] [--volume-bounces N]
+      [--blackbody GRID[:KELVIN[:INTENSITY]]] [--emission-grid]
 
 Writes OUT.exr (linear scene-referred RGB, 32-bit float, no view transform) and prints one JSON line
 on stdout, e.g. {"seconds": 12.3, "spp": 64, ...}. Blender prints its own lines around it
@@ -163,6 +164,13 @@ def parse_args():
                         "as vdb_render --max-depth 1)")
     p.add_argument("--openvdb-voxel-centres", action="store_true",
                    help="shift the object by half a voxel so voxel i's value sits at index i (OpenVDB)")
+    p.add_argument("--blackbody", metavar="GRID[:KELVIN[:INTENSITY]]",
+                   help="add Principled Volume's blackbody light of the float grid GRID (Temperature KELVIN, "
+                        "default 1000; Blackbody Intensity INTENSITY, default 1), as vdb_render's "
+                        "--grid emission=blackbody:GRID[:KELVIN[:INTENSITY]] (docs/medium.md 3b)")
+    p.add_argument("--emission-grid", action="store_true",
+                   help="add the medium's 'emission' grid (vec3) as light per unit length, an Emission shader "
+                        "of strength 1 (the cycles convention of docs/medium.md 3b)")
     p.add_argument("--force", action="store_true",
                    help="render SGGX / tabulated / multi-lobe media with their HG or isotropic fallback")
     a = p.parse_args(argv)
@@ -305,7 +313,20 @@ def density_weighted_albedo(nt, density):
     return divide.outputs["Vector"]
 
 
-def medium_material(grids, hg_g):
+def blackbody_emission(nt, rule):
+    """Principled Volume with Density 0: only its blackbody light, of the grid named in --blackbody
+    (Cycles' svm principled volume adds it whatever the density, the cycles convention)."""
+    parts = rule.split(":")
+    pv = nt.nodes.new("ShaderNodeVolumePrincipled")
+    pv.inputs["Density"].default_value = 0.0
+    pv.inputs["Density Attribute"].default_value = ""
+    pv.inputs["Temperature Attribute"].default_value = parts[0]
+    pv.inputs["Temperature"].default_value = float(parts[1]) if len(parts) > 1 else 1000.0
+    pv.inputs["Blackbody Intensity"].default_value = float(parts[2]) if len(parts) > 2 else 1.0
+    return pv.outputs["Volume"]
+
+
+def medium_material(grids, hg_g, blackbody=None, emission_grid=False):
     """Volume Scatter (colour albedo, density rho, anisotropy g) + Volume Absorption (colour albedo,
     density rho): sigma_s = albedo*rho, sigma_a = (1-albedo)*rho, sigma_t = rho (see module doc).
     With premultiplied grids sigma_s_r, _g, _b (scripts/premultiply_albedo.py) the albedo is
@@ -340,11 +361,25 @@ def medium_material(grids, hg_g):
         add = nt.nodes.new("ShaderNodeAddShader")
         nt.links.new(scatter.outputs["Volume"], add.inputs[0])
         nt.links.new(absorb.outputs["Volume"], add.inputs[1])
-        nt.links.new(add.outputs["Shader"], out.inputs["Volume"])
+        shader = add.outputs["Shader"]
     else:
         # Albedo 1 everywhere: (1 - 1)*rho = 0 absorption, scattering only.
         scatter.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-        nt.links.new(scatter.outputs["Volume"], out.inputs["Volume"])
+        shader = scatter.outputs["Volume"]
+    lights = []
+    if blackbody:
+        lights.append(blackbody_emission(nt, blackbody))
+    if emission_grid:
+        emission = nt.nodes.new("ShaderNodeEmission")
+        emission.inputs["Strength"].default_value = 1.0
+        nt.links.new(attribute(nt, "emission").outputs["Color"], emission.inputs["Color"])
+        lights.append(emission.outputs["Emission"])
+    for light in lights:
+        glow = nt.nodes.new("ShaderNodeAddShader")
+        nt.links.new(shader, glow.inputs[0])
+        nt.links.new(light, glow.inputs[1])
+        shader = glow.outputs["Shader"]
+    nt.links.new(shader, out.inputs["Volume"])
     # No surface shader: the bounding mesh Cycles builds around the voxels is fully transparent.
 
     cm = mat.cycles
@@ -574,7 +609,11 @@ def main():
     if a.openvdb_voxel_centres:
         linear = grid_matrix(grids["density"]).to_3x3()
         ob.matrix_world = Matrix.Translation(-(linear @ Vector((0.5, 0.5, 0.5))))
-    vol.materials.append(medium_material(grids, hg_g))
+    if a.blackbody and a.blackbody.split(":")[0] not in grids:
+        fail("%s: --blackbody %s: no grid named '%s'" % (a.vdb, a.blackbody, a.blackbody.split(":")[0]))
+    if a.emission_grid and "emission" not in grids:
+        fail("%s: --emission-grid: no grid named 'emission'" % a.vdb)
+    vol.materials.append(medium_material(grids, hg_g, a.blackbody, a.emission_grid))
 
     if a.env is None and a.sun is None and a.point_light is None:  # vdb_render's defaultLights()
         a.env, a.sun = [0.1], [0.51, 0.65, -0.565, 3.0]
@@ -608,6 +647,7 @@ def main():
         "phase": hg_source,
         "hg_g": hg_g if hg_source == "metadata" else (None if hg_source == "grid" else 0.0),
         "albedo_grid": "albedo" in grids,
+        "blackbody": a.blackbody,
         "openvdb_voxel_centres": bool(a.openvdb_voxel_centres),
         "blender": bpy.app.version_string,
         "out": out,
