@@ -209,7 +209,10 @@ void carryOtherGrids(const Medium& fine, int factor, const openvdb::math::Transf
   for (const auto& grid : fine.other_grids) {
     const std::string name = grid->getName();
     if (name == grid_names::kEmission) {
-      coarse.other_grids.push_back(downsampleEmission(fine, factor, transform));
+      auto emission = downsampleEmission(fine, factor, transform);
+      if (!emission)  // the reader makes every emission RGB; media built in code may not
+        throw MediumError(fmt::format("{}: grid '{}': holds {} values, expected vec3s", fine.source, name, grid->valueType()));
+      coarse.other_grids.push_back(emission);
     } else if (name == grid_names::kPhaseTable || isBlockIndexedGridName(name)) {  // not indexed by voxel
       auto copy = grid->deepCopyGrid();
       copy->setTransform(transform);

@@ -89,7 +89,10 @@ void describeGrids(const Medium& medium, MediumInfo& info) {
 }
 
 void describeBox(const Medium& medium, MediumInfo& info) {
-  const openvdb::BBoxd world = worldBoxOfCells(medium.transform(), medium.density->evalActiveVoxelBoundingBox());
+  openvdb::CoordBBox voxels = medium.density->evalActiveVoxelBoundingBox();
+  if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission))
+    voxels.expand(emission->evalActiveVoxelBoundingBox());  // a flame may reach beyond the smoke
+  const openvdb::BBoxd world = worldBoxOfCells(medium.transform(), voxels);
   for (int a = 0; a < 3; ++a) {
     info.voxel_size[std::size_t(a)] = medium.transform().voxelSize()[a];
     info.world_min[std::size_t(a)] = world.min()[a];

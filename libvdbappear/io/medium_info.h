@@ -29,7 +29,7 @@ struct MediumInfo {
   std::vector<GridRole> grids;
   std::vector<std::pair<std::string, std::string>> metadata;  // file metadata: name, value as text
   std::array<double, 3> voxel_size{};
-  std::array<double, 3> world_min{}, world_max{};  // the density's active voxels, cells included
+  std::array<double, 3> world_min{}, world_max{};  // the density's and emission's active voxels, cells included
   std::uint64_t active_voxels = 0;                 // of the density grid
   ValueRange density;
   std::optional<std::array<ValueRange, 3>> albedo;  // per channel; none: albedo 1 everywhere

@@ -61,11 +61,13 @@ Rgb BlackbodyTable::operator()(double kelvin) const {
 }
 
 Rgb principledBlackbodyEmission(double attribute, const PrincipledBlackbody& settings, const BlackbodyTable& table) {
+  constexpr double kCutoff = 1e-5;  // Cycles' CLOSURE_WEIGHT_CUTOFF: no light at or below it
+  if (!(settings.intensity > kCutoff)) return Rgb::Zero();
   const double T = settings.kelvin * std::max(attribute, 0.0);
   const double T4 = (T * T) * (T * T);
   const double sigma = 5.670373e-8 * 1e-6 / kPi;
   const double intensity = sigma * ((1 - settings.intensity) + settings.intensity * T4);
-  if (!(intensity > 0)) return Rgb::Zero();
+  if (!(intensity > kCutoff)) return Rgb::Zero();
   return (settings.tint * intensity * table(T)).max(0.0);
 }
 

@@ -35,7 +35,9 @@ struct PrincipledBlackbody {
 
 // The light emitted per unit length for attribute value `attribute` (Cycles' svm principled volume):
 // T = kelvin * max(attribute, 0), and tint * sigma / pi * 1e-6 * mix(1, T^4, intensity) * colour(T)
-// (Stefan-Boltzmann, sigma = 5.670373e-8), each channel clamped at 0: the contract's emission is
+// (Stefan-Boltzmann, sigma = 5.670373e-8); nothing where the intensity or that product is at most
+// Cycles' cutoff 1e-5 (below about 150 K at intensity 1), so that cold voxels emit nothing and do not
+// raise the majorant; each channel clamped at 0: the contract's emission is
 // non-negative, where Cycles would subtract the light outside Rec.709's gamut (under 8% of a channel,
 // in blue below 2000 K).
 Rgb principledBlackbodyEmission(double attribute, const PrincipledBlackbody& settings, const BlackbodyTable& table);

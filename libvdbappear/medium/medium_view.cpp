@@ -95,6 +95,9 @@ void MediumView::Impl::findInstances() {
 }
 
 void MediumView::Impl::readEmission() {
+  for (const auto& grid : medium->other_grids)  // the reader makes every emission RGB; media built in code may not
+    if (grid->getName() == grid_names::kEmission && !grid->isType<openvdb::Vec3SGrid>())
+      fail(grid_names::kEmission, fmt::format("holds {} values, expected vec3s", grid->valueType()));
   emission = findOtherGrid<openvdb::Vec3SGrid>(*medium, grid_names::kEmission);
   emission_convention = emissionConvention(*medium);
   if (emission && InstanceMapping::of(*medium, kMajorantBlock))
@@ -107,6 +110,11 @@ void MediumView::Impl::findBounds() {
   const openvdb::BBoxd world = worldBoxOfCells(medium->transform(), box);
   bounds.extend(toVec3(world.min()));
   bounds.extend(toVec3(world.max()));
+  if (emission && !emission->evalActiveVoxelBoundingBox().empty()) {  // a flame may reach beyond the smoke
+    const openvdb::BBoxd glow = worldBoxOfCells(medium->transform(), emission->evalActiveVoxelBoundingBox());
+    bounds.extend(toVec3(glow.min()));
+    bounds.extend(toVec3(glow.max()));
+  }
   // An instanced model's majorant voxels (never built): its voxel box in blocks of kMajorantBlock.
   const openvdb::Coord unit(kMajorantBlock);
   const openvdb::CoordBBox m = !instances ? majorant->evalActiveVoxelBoundingBox()

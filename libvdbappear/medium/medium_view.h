@@ -58,7 +58,7 @@ class MediumView {
   MediumView(const MediumView&) = delete;
   MediumView& operator=(const MediumView&) = delete;
 
-  Aabb worldBounds() const;  // of the cells of the density grid's active voxels
+  Aabb worldBounds() const;  // of the cells of the density's active voxels, and of the emission's
   Interpolation interpolation() const;
   PhaseSource phaseSource() const;
   int lobeCount() const;     // lobes per voxel when phaseSource() is kLobes, else 1

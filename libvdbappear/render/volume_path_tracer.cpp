@@ -213,7 +213,8 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
   bool prev_specular = false;  // the previous vertex reflected specularly: what the ray reaches is not MIS-weighted
   double mirror_reflectance = 1;  // of the camera ray's mirror reflections so far; 0 once a path scatters otherwise
   // The path left a prefiltered map below its base horizon: only a light, not a surface or a
-  // medium, is seen along it (Vertex::reflectsBack says why).
+  // medium, is seen along it (Vertex::reflectsBack says why); a medium's own emission counts as a
+  // light (the map's tables hold none of it).
   bool lights_only = false;
   Vertex vertex;  // one per path, refilled at each collision (its scattering function is 1.6 kB)
   vertex.level = pathLevel(scene_.mipmaps, ray, rng);
