@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/block_index.h"
 #include "libvdbappear/math/rgb.h"
 
 #include <tbb/blocked_range.h>
@@ -16,17 +17,12 @@ namespace {
 
 using openvdb::Coord;
 
-int floorDiv(int a, int b) { return a / b - ((a % b != 0) && (a < 0)); }
-Coord floorDiv(const Coord& c, int b) { return Coord(floorDiv(c.x(), b), floorDiv(c.y(), b), floorDiv(c.z(), b)); }
-
 // The coarse voxels that hold an active voxel of `emission`, sorted.
 std::vector<Coord> coarseVoxels(const openvdb::Vec3SGrid& emission, int factor) {
   openvdb::MaskGrid coarse;
   auto mask = coarse.getAccessor();
   for (auto v = emission.cbeginValueOn(); v; ++v) {
-    const openvdb::CoordBBox box = v.getBoundingBox();
-    const openvdb::CoordBBox children(floorDiv(box.min(), factor), floorDiv(box.max(), factor));
-    for (auto c = children.begin(); c; ++c) mask.setValueOn(*c);
+    for (auto c = blocksOf(v.getBoundingBox(), Coord(factor)).begin(); c; ++c) mask.setValueOn(*c);
   }
   std::vector<Coord> voxels;
   for (auto c = coarse.cbeginValueOn(); c; ++c) voxels.push_back(c.getCoord());  // leaves only: no tiles were made

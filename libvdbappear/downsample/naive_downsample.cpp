@@ -5,6 +5,7 @@
 #include "libvdbappear/io/leaf_values.h"
 #include "libvdbappear/io/medium_block.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/block_index.h"
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
 
@@ -30,8 +31,6 @@ using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 constexpr int kLeafDim = FloatLeaf::DIM;          // 8 voxels per leaf edge
 constexpr Index kLeafVoxels = FloatLeaf::SIZE;    // 512
 
-int floorDiv(int a, int b) { return a / b - ((a % b != 0) && (a < 0)); }
-Coord floorDiv(const Coord& c, int b) { return Coord(floorDiv(c.x(), b), floorDiv(c.y(), b), floorDiv(c.z(), b)); }
 Coord scaled(const Coord& c, int s) { return Coord(c.x() * s, c.y() * s, c.z() * s); }
 
 // Sums over the children of the 512 voxels of one coarse leaf (double precision).
@@ -95,13 +94,13 @@ std::vector<Coord> NaiveDownsampler::coarseLeafOrigins() const {
   const auto& tree = fine_.density->tree();
   origins.reserve(tree.leafCount());
   for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
-    origins.push_back(scaled(floorDiv(leaf->origin(), span), kLeafDim));
+    origins.push_back(scaled(blockOf(leaf->origin(), Coord(span)), kLeafDim));
   auto tile = tree.cbeginValueOn();
   tile.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);  // tiles only
   for (; tile; ++tile) {
     openvdb::CoordBBox box;
     tile.getBoundingBox(box);
-    const Coord lo = floorDiv(box.min(), span), hi = floorDiv(box.max(), span);
+    const Coord lo = blockOf(box.min(), Coord(span)), hi = blockOf(box.max(), Coord(span));
     for (int x = lo.x(); x <= hi.x(); ++x)
       for (int y = lo.y(); y <= hi.y(); ++y)
         for (int z = lo.z(); z <= hi.z(); ++z) origins.push_back(scaled(Coord(x, y, z), kLeafDim));

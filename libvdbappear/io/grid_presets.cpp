@@ -83,20 +83,16 @@ std::optional<PresetRule> emissionRule(const openvdb::GridPtrVec& grids, GridPre
 
 }  // namespace
 
-bool mapsEmission(const std::vector<GridRule>& rules) {
-  return std::any_of(rules.begin(), rules.end(), [](const GridRule& rule) { return rule.role == grid_names::kEmission; });
-}
-
-bool mapsAlbedo(const std::vector<GridRule>& rules) {
-  return std::any_of(rules.begin(), rules.end(), [](const GridRule& rule) { return rule.role == grid_names::kAlbedo; });
+bool mapsRole(const std::vector<GridRule>& rules, const std::string& role) {
+  return std::any_of(rules.begin(), rules.end(), [&role](const GridRule& rule) { return rule.role == role; });
 }
 
 std::vector<PresetRule> presetRules(const openvdb::GridPtrVec& grids, GridPreset preset,
                                     const std::vector<GridRule>& explicit_rules) {
   std::vector<PresetRule> rules;
-  if (!mapsAlbedo(explicit_rules))
+  if (!mapsRole(explicit_rules, grid_names::kAlbedo))
     if (auto rule = albedoRule(grids, preset)) rules.push_back(std::move(*rule));
-  if (!mapsEmission(explicit_rules))
+  if (!mapsRole(explicit_rules, grid_names::kEmission))
     if (auto rule = emissionRule(grids, preset)) rules.push_back(std::move(*rule));
   return rules;
 }

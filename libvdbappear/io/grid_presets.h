@@ -27,9 +27,8 @@ struct PresetRule {
   std::string convention;
 };
 
-// Does one of `rules` make the albedo, the emission? Then no preset does.
-bool mapsAlbedo(const std::vector<GridRule>& rules);
-bool mapsEmission(const std::vector<GridRule>& rules);
+// Does one of `rules` make `role` (the albedo, the emission)? Then no preset does.
+bool mapsRole(const std::vector<GridRule>& rules, const std::string& role);
 
 // The rules of `preset` that `grids` has the grids for, for the roles `explicit_rules` leave:
 // kBlender the smoke cache's colour, else a Volume object's, and its fire; kHoudini `Cd`; kAuto the

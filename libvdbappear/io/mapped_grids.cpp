@@ -251,15 +251,14 @@ MappedGrids applyGridMapping(const openvdb::GridPtrVec& grids, const GridMapping
   const std::vector<PresetRule> preset = presetRules(grids, mapping.preset, mapping.rules);
   for (const PresetRule& p : preset) mapper.applyPreset(p, mapping.preset);
   const bool named = mapping.preset == GridPreset::kBlender || mapping.preset == GridPreset::kHoudini;
-  const auto makes = [&preset](const char* role) {
-    return std::any_of(preset.begin(), preset.end(), [role](const PresetRule& p) { return p.rule.role == role; });
-  };
-  if (named && !makes(grid_names::kAlbedo) && !mapsAlbedo(mapping.rules))
+  std::vector<GridRule> proposed = mapping.rules;  // explicit and preset rules, applied or left out with a note
+  for (const PresetRule& p : preset) proposed.push_back(p.rule);
+  if (named && !mapsRole(proposed, grid_names::kAlbedo))
     mapper.note(fmt::format("--from {}: none of its colour grids ({}): the grids are read as they are",
                             gridPresetName(mapping.preset),
                             mapping.preset == GridPreset::kBlender ? "color_r, color_g, color_b; color" : "Cd"));
-  const bool maps_emission = mapsEmission(mapping.rules) || makes(grid_names::kEmission);
-  if (mapping.preset != GridPreset::kNone && !maps_emission && isForeignFile(grids, mapping.preset))
+  if (mapping.preset != GridPreset::kNone && !mapsRole(proposed, grid_names::kEmission) &&
+      isForeignFile(grids, mapping.preset))
     if (auto unread = unreadConventionGrids(grids)) mapper.note(*unread);
   return mapper.finish();
 }

@@ -33,6 +33,13 @@ openvdb::BBoxd worldBoxOfCells(const openvdb::math::Transform& transform, const 
   return box;
 }
 
+openvdb::CoordBBox framedVoxels(const Medium& medium) {
+  openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
+  if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission))
+    box.expand(emission->evalActiveVoxelBoundingBox());  // an empty box leaves it as it is
+  return box;
+}
+
 void removeOtherGrid(Medium& medium, const std::string& name) {
   auto& grids = medium.other_grids;
   grids.erase(std::remove_if(grids.begin(), grids.end(), [&](const auto& g) { return g->getName() == name; }),

@@ -84,6 +84,10 @@ typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name)
 // beyond its centre): the corners of the index box grown by 1/2, through the transform.
 openvdb::BBoxd worldBoxOfCells(const openvdb::math::Transform& transform, const openvdb::CoordBBox& voxels);
 
+// The index box of the density's active voxels and of the emission's (a flame may reach beyond the
+// smoke): what a picture of the medium frames.
+openvdb::CoordBBox framedVoxels(const Medium& medium);
+
 // Drops the grids of other_grids with this name.
 void removeOtherGrid(Medium& medium, const std::string& name);
 

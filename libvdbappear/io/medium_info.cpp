@@ -89,10 +89,7 @@ void describeGrids(const Medium& medium, MediumInfo& info) {
 }
 
 void describeBox(const Medium& medium, MediumInfo& info) {
-  openvdb::CoordBBox voxels = medium.density->evalActiveVoxelBoundingBox();
-  if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission))
-    voxels.expand(emission->evalActiveVoxelBoundingBox());  // a flame may reach beyond the smoke
-  const openvdb::BBoxd world = worldBoxOfCells(medium.transform(), voxels);
+  const openvdb::BBoxd world = worldBoxOfCells(medium.transform(), framedVoxels(medium));
   for (int a = 0; a < 3; ++a) {
     info.voxel_size[std::size_t(a)] = medium.transform().voxelSize()[a];
     info.world_min[std::size_t(a)] = world.min()[a];
@@ -100,22 +97,24 @@ void describeBox(const Medium& medium, MediumInfo& info) {
   }
 }
 
+std::array<ValueRange, 3> channelRanges(const openvdb::Vec3SGrid& grid) {
+  std::array<ValueRange, 3> ranges;
+  for (int c = 0; c < 3; ++c) ranges[std::size_t(c)] = rangeOf(grid, [c](const openvdb::Vec3s& v) { return double(v[c]); });
+  return ranges;
+}
+
 void describeValues(const Medium& medium, MediumInfo& info) {
   info.active_voxels = medium.density->activeVoxelCount();
   info.density = rangeOf(*medium.density, [](float v) { return double(v); });
   if (medium.albedo) {
-    std::array<ValueRange, 3> albedo;
-    for (int c = 0; c < 3; ++c) albedo[std::size_t(c)] = rangeOf(*medium.albedo, [c](const openvdb::Vec3s& v) { return double(v[c]); });
-    info.albedo = albedo;
+    info.albedo = channelRanges(*medium.albedo);
   } else {
     info.notes.push_back("no 'albedo' grid: albedo 1 everywhere, a white medium that absorbs nothing; under a white sky "
                          "alone (--env 1) it vanishes into the background; vdb_render's default lights (a dim sky and "
                          "a sun) show it");
   }
   if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission)) {
-    std::array<ValueRange, 3> ranges;
-    for (int c = 0; c < 3; ++c) ranges[std::size_t(c)] = rangeOf(*emission, [c](const openvdb::Vec3s& v) { return double(v[c]); });
-    info.emission = ranges;
+    info.emission = channelRanges(*emission);
     const EmissionConvention convention = emissionConvention(medium);
     info.emission_convention = emissionConventionName(convention);
     info.notes.push_back(convention == EmissionConvention::kCycles

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/leaf_values.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/block_index.h"
 #include "libvdbappear/math/sggx.h"
 
 #include <Eigen/Eigenvalues>
@@ -162,15 +163,11 @@ std::vector<openvdb::Coord> emittingBlocks(const openvdb::Vec3SGrid& emission, I
   const int reach = interpolation == Interpolation::kNearest ? 0 : 1;
   openvdb::MaskGrid blocks;
   auto mask = blocks.getAccessor();
-  const auto block_of = [](int i) { return i >= 0 ? i / kMajorantBlock : -((-i + kMajorantBlock - 1) / kMajorantBlock); };
   for (auto v = emission.cbeginValueOn(); v; ++v) {
     if (!(v->x() > 0 || v->y() > 0 || v->z() > 0)) continue;
     openvdb::CoordBBox box = v.getBoundingBox();
     box.expand(reach);
-    const openvdb::CoordBBox blocks_box(
-        openvdb::Coord(block_of(box.min().x()), block_of(box.min().y()), block_of(box.min().z())),
-        openvdb::Coord(block_of(box.max().x()), block_of(box.max().y()), block_of(box.max().z())));
-    for (auto a = blocks_box.begin(); a; ++a) mask.setValueOn(*a);
+    for (auto a = blocksOf(box, openvdb::Coord(kMajorantBlock)).begin(); a; ++a) mask.setValueOn(*a);
   }
   std::vector<openvdb::Coord> coords;
   for (auto a = blocks.cbeginValueOn(); a; ++a) {

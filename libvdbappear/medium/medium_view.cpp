@@ -89,6 +89,7 @@ void MediumView::Impl::findTransform() {
 void MediumView::Impl::findInstances() {
   instances = InstanceMapping::of(*medium, kMajorantBlock);
   if (!instances) return;
+  if (emission) fail(grid_names::kEmission, "an instanced model cannot emit yet; assemble it without --instanced");
   if (interpolation != Interpolation::kNearest)
     throw MediumError(fmt::format("{}: an instanced model renders with nearest lookups (--interp nearest); for "
                                   "trilinear lookups assemble it without --instanced", medium->source));
@@ -100,21 +101,14 @@ void MediumView::Impl::readEmission() {
       fail(grid_names::kEmission, fmt::format("holds {} values, expected vec3s", grid->valueType()));
   emission = findOtherGrid<openvdb::Vec3SGrid>(*medium, grid_names::kEmission);
   emission_convention = emissionConvention(*medium);
-  if (emission && InstanceMapping::of(*medium, kMajorantBlock))
-    fail(grid_names::kEmission, "an instanced model cannot emit yet; assemble it without --instanced");
 }
 
 void MediumView::Impl::findBounds() {
   const openvdb::CoordBBox box =
-      instances ? instances->modelBounds(*medium->density) : medium->density->evalActiveVoxelBoundingBox();
+      instances ? instances->modelBounds(*medium->density) : framedVoxels(*medium);  // instanced models do not emit
   const openvdb::BBoxd world = worldBoxOfCells(medium->transform(), box);
   bounds.extend(toVec3(world.min()));
   bounds.extend(toVec3(world.max()));
-  if (emission && !emission->evalActiveVoxelBoundingBox().empty()) {  // a flame may reach beyond the smoke
-    const openvdb::BBoxd glow = worldBoxOfCells(medium->transform(), emission->evalActiveVoxelBoundingBox());
-    bounds.extend(toVec3(glow.min()));
-    bounds.extend(toVec3(glow.max()));
-  }
   // An instanced model's majorant voxels (never built): its voxel box in blocks of kMajorantBlock.
   const openvdb::Coord unit(kMajorantBlock);
   const openvdb::CoordBBox m = !instances ? majorant->evalActiveVoxelBoundingBox()

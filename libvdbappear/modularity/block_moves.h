@@ -4,6 +4,7 @@
 // the same place in each destination block of b". Includes OpenVDB (library code only).
 
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/math/block_index.h"
 
 #include <cstdint>
 #include <map>
@@ -16,13 +17,6 @@ struct BlockMoves {
   openvdb::Coord block;                                                  // voxels per block side
   std::map<openvdb::Coord, std::vector<openvdb::Coord>> destinations;  // source block -> its copies (none: dropped)
 };
-
-// The block holding voxel ijk (floor division: blocks left of or below the origin are negative).
-// Inline: instanced renders call it at every lookup.
-inline int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-inline openvdb::Coord blockOf(const openvdb::Coord& ijk, const openvdb::Coord& block) {
-  return openvdb::Coord(floorDiv(ijk.x(), block.x()), floorDiv(ijk.y(), block.y()), floorDiv(ijk.z(), block.z()));
-}
 
 // Active voxels of a float grid (the density, a majorant) per block (tiles counted whole, in the
 // block of their first voxel).

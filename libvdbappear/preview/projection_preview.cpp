@@ -99,9 +99,8 @@ std::optional<std::pair<double, double>> clipToBox(const Vec3& o, const Vec3& d,
 }  // namespace
 
 RgbImage renderPreview(const Medium& medium, const PreviewOptions& options, ProgressBar* progress) {
-  openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
+  const openvdb::CoordBBox box = framedVoxels(medium);
   const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission);
-  if (emission) box.expand(emission->evalActiveVoxelBoundingBox());  // a flame may reach beyond the smoke
   // The medium's own light over one step (docs/medium.md §3b): E dt, or under pbrt's convention the
   // absorbed share of the step's extinction times Le.
   const bool per_length = !emission || emissionConvention(medium) == EmissionConvention::kCycles;

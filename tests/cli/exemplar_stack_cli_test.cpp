@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -163,6 +164,19 @@ TEST(ExemplarStackCli, InstancedModelsRenderTheBuiltModelsImage) {
   EXPECT_LT(std::filesystem::file_size(instanced), std::filesystem::file_size(built));
   const std::string view = " --res 40x30 --spp 4 --seed 3 --camera-pos 9,-7,6 --camera-target 6,4,1 --fov 40 --ground";
   expectSameRender(b.dir, built, instanced, view);
+
+  // An instanced model cannot emit yet (its majorant is the block set's): one error line, no image.
+  const MediumPtr model = readMedium(instanced);
+  auto emission = test::namedGridLike<openvdb::Vec3SGrid>(*model, grid_names::kEmission, openvdb::Vec3s(0.0f));
+  emission->tree().setValueOn(openvdb::Coord(0), openvdb::Vec3s(1.0f));
+  openvdb::GridPtrVec grids = test::copyGrids(*model);
+  grids.push_back(emission);
+  const std::string glowing = b.dir.path("glowing.vdb"), image = b.dir.path("glowing.exr");
+  test::writeRawVdb(glowing, grids, model->metadata);
+  const auto refused = runCommand(kRender + " " + quote(glowing) + " -o " + quote(image) + view);
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("grid 'emission': an instanced model cannot emit yet"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(image));
 
   // Reduced, multi-lobe blocks (the lobe, weight and cluster grids are read through the layout too).
   const std::string lobes = b.dir.path("lobes.vdb"), reduced = b.dir.path("reduced.vdb");
