@@ -38,6 +38,8 @@ nlohmann::json infoJson(const MediumInfo& info, const std::string& file) {
   if (info.emission)
     emission = {{"convention", info.emission_convention},
                 {"channels", {rangeJson((*info.emission)[0]), rangeJson((*info.emission)[1]), rangeJson((*info.emission)[2])}}};
+  if (info.blackbody_temperature)
+    emission["blackbody"] = {{"kelvin", rangeJson(*info.blackbody_temperature)}, {"intensity", info.blackbody_intensity}};
   return {{"file", file}, {"tool", kTool}, {"version", kVersion}, {"grids", grids}, {"metadata", metadata},
           {"voxel_size", info.voxel_size}, {"world_box", {{"min", info.world_min}, {"max", info.world_max}}},
           {"active_voxels", info.active_voxels}, {"density", rangeJson(info.density)}, {"albedo", albedo},
@@ -60,6 +62,9 @@ void printInfo(const MediumInfo& info, const std::string& file) {
   if (info.emission)
     fmt::print("emission    R {}; G {}; B {} ({})\n", rangeText((*info.emission)[0]), rangeText((*info.emission)[1]),
                rangeText((*info.emission)[2]), info.emission_convention);
+  if (info.blackbody_temperature)
+    fmt::print("blackbody   {} K, intensity {:.4g} (its light is in the emission above)\n",
+               rangeText(*info.blackbody_temperature), info.blackbody_intensity);
   for (const std::string& note : info.notes) fmt::print("note: {}\n", note);
   fmt::print("render:\n  {}\n", info.render_command);
 }

@@ -4,6 +4,7 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/math/block_index.h"
 #include "libvdbappear/math/rgb.h"
+#include "libvdbappear/medium/emission_light.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -79,7 +80,7 @@ openvdb::Vec3s coarseValue(const ChildSums& sums, int factor, EmissionConvention
 }  // namespace
 
 openvdb::Vec3SGrid::Ptr downsampleEmission(const Medium& fine, int factor, const openvdb::math::Transform::Ptr& coarse) {
-  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(fine, grid_names::kEmission);
+  const auto emission = voxelEmission(fine);  // emission plus blackbody light, per fine voxel
   if (!emission) return nullptr;
   const EmissionConvention convention = emissionConvention(fine);
   const std::vector<Coord> voxels = coarseVoxels(*emission, factor);

@@ -202,16 +202,15 @@ bool isMultiLobeOrClusterGrid(const std::string& name) {
 }
 
 // Grids other than the base grids: pass the phase table and the block-indexed exemplar grids
-// through, average the emission, refuse what cannot be averaged.
+// through, average the emission (the blackbody light made into emission), refuse what cannot be
+// averaged.
 void carryOtherGrids(const Medium& fine, int factor, const openvdb::math::Transform::Ptr& transform, Medium& coarse,
                      std::vector<std::string>& warnings) {
+  if (auto emission = downsampleEmission(fine, factor, transform)) coarse.other_grids.push_back(emission);
   for (const auto& grid : fine.other_grids) {
     const std::string name = grid->getName();
-    if (name == grid_names::kEmission) {
-      auto emission = downsampleEmission(fine, factor, transform);
-      if (!emission)  // the reader makes every emission RGB; media built in code may not
-        throw MediumError(fmt::format("{}: grid '{}': holds {} values, expected vec3s", fine.source, name, grid->valueType()));
-      coarse.other_grids.push_back(emission);
+    if (name == grid_names::kEmission || name == grid_names::kBlackbodyTemperature) {
+      continue;  // made into the coarse emission above
     } else if (name == grid_names::kPhaseTable || isBlockIndexedGridName(name)) {  // not indexed by voxel
       auto copy = grid->deepCopyGrid();
       copy->setTransform(transform);

@@ -13,9 +13,10 @@ namespace vdbappear {
 // role's type (albedo: a float grid is grey), or three float grids as R, G, B (albedo only).
 // With a `divisor` (albedo only), each voxel is divided by that float grid's value there: a colour
 // premultiplied by the density, as Mantaflow writes it (docs/medium.md §12).
-// Or (emission only, `blackbody`) the one source is a temperature attribute, made into light as
-// Blender Cycles' Principled Volume does with Temperature `kelvin` (kelvin per unit of the grid) and
-// Blackbody Intensity `intensity` (medium/blackbody.h): "emission=blackbody:temperature[:K[:I]]".
+// Or (emission only, `blackbody`) the one source is a temperature attribute, read as the contract's
+// blackbody_temperature (kelvin: `kelvin` per unit of the grid, Principled Volume's Temperature) with
+// Blackbody Intensity `intensity` in its metadata, whose light Blender Cycles' Principled Volume
+// makes (medium/blackbody.h, docs/medium.md §3b): "emission=blackbody:temperature[:K[:I]]".
 struct GridRule {
   std::string role;
   std::vector<std::string> sources;

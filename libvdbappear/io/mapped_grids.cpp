@@ -3,7 +3,6 @@
 #include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
-#include "libvdbappear/medium/blackbody.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
@@ -103,40 +102,28 @@ openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>&
   return rgb;
 }
 
-// emission=blackbody:GRID: each active value of the temperature attribute made into light as Cycles'
-// Principled Volume does (medium/blackbody.h); inactive voxels emit nothing.
-openvdb::Vec3SGrid::Ptr blackbodyEmission(const openvdb::FloatGrid& temperature, const GridRule& rule,
-                                          const std::string& source) {
+// emission=blackbody:GRID: the temperature attribute in kelvin (KELVIN per unit, as Principled
+// Volume's Temperature input scales it), as the contract's blackbody_temperature grid with the
+// rule's Blackbody Intensity in its metadata (docs/medium.md §3b). The light is made from it at each
+// lookup, after interpolation, as Cycles does.
+openvdb::FloatGrid::Ptr blackbodyTemperature(const openvdb::FloatGrid& temperature, const GridRule& rule,
+                                             const std::string& source) {
   for (auto v = temperature.cbeginValueOn(); v; ++v)  // tree order: the same culprit at every run
     if (!(*v >= 0 && *v <= FLT_MAX))
       throw MediumError(fmt::format("{}: grid '{}': temperature {} is {} at {} ({},{},{})", ruleContext(rule, source),
                                     temperature.getName(), *v, std::isfinite(*v) ? "negative" : "not finite",
                                     v.isVoxelValue() ? "voxel" : "tile", v.getCoord().x(), v.getCoord().y(),
                                     v.getCoord().z()));
-  auto emission = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-  emission->setName(rule.role);
-  emission->setTransform(temperature.transform().copy());
-  emission->tree().topologyUnion(temperature.tree());
-  const BlackbodyTable table;
-  const PrincipledBlackbody settings{rule.kelvin, rule.intensity, Rgb::Ones()};
-  struct Fill {
-    openvdb::FloatGrid::ConstAccessor temperature;
-    const BlackbodyTable* table;
-    PrincipledBlackbody settings;
-    void operator()(const openvdb::Vec3SGrid::ValueOnIter& it) const {
-      const Rgb e = principledBlackbodyEmission(temperature.getValue(it.getCoord()), settings, *table);
-      it.setValue(openvdb::Vec3s(float(e[0]), float(e[1]), float(e[2])));
-    }
-  };
-  openvdb::tools::foreach(emission->beginValueOn(), Fill{temperature.getConstAccessor(), &table, settings},
-                          /*threaded=*/true, /*shareOp=*/false);
-  return emission;
+  auto kelvin = scaledCopy(temperature, grid_names::kBlackbodyTemperature, rule.kelvin);
+  kelvin->insertMeta(metadata_names::kBlackbodyIntensity, openvdb::FloatMetadata(float(rule.intensity)));
+  return kelvin;
 }
 
 openvdb::GridBase::Ptr undividedGrid(const openvdb::GridPtrVec& grids, const GridRule& rule, const std::string& source) {
   namespace names = grid_names;
   if (rule.blackbody)
-    return blackbodyEmission(*sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources.front(), source), rule, source);
+    return blackbodyTemperature(*sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources.front(), source), rule,
+                                source);
   if (rule.sources.size() == 3) {
     std::array<openvdb::FloatGrid::Ptr, 3> channels;
     for (int c = 0; c < 3; ++c) channels[c] = sourceOfType<openvdb::FloatGrid>(grids, rule, rule.sources[c], source);
@@ -205,6 +192,7 @@ class GridMapper {
     made_.push_back(grid);
     result_.applied.push_back(rule);
     replaced_.insert(rule.role);
+    replaced_.insert(grid->getName());  // blackbody_temperature, for emission=blackbody:...
     replaced_.insert(rule.sources.begin(), rule.sources.end());
   }
 

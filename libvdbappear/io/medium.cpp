@@ -37,6 +37,8 @@ openvdb::CoordBBox framedVoxels(const Medium& medium) {
   openvdb::CoordBBox box = medium.density->evalActiveVoxelBoundingBox();
   if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission))
     box.expand(emission->evalActiveVoxelBoundingBox());  // an empty box leaves it as it is
+  if (const auto temperature = findOtherGrid<openvdb::FloatGrid>(medium, grid_names::kBlackbodyTemperature))
+    box.expand(temperature->evalActiveVoxelBoundingBox());
   return box;
 }
 
@@ -53,6 +55,12 @@ bool isBlockIndexedGridName(const std::string& name) {
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata) {
   if (auto f = metadata.getMetadata<openvdb::FloatMetadata>(metadata_names::kHgG)) return f->value();
   if (auto d = metadata.getMetadata<openvdb::DoubleMetadata>(metadata_names::kHgG)) return d->value();
+  return std::nullopt;
+}
+
+std::optional<double> blackbodyIntensityMetadata(const openvdb::MetaMap& grid) {
+  if (auto f = grid.getMetadata<openvdb::FloatMetadata>(metadata_names::kBlackbodyIntensity)) return f->value();
+  if (auto d = grid.getMetadata<openvdb::DoubleMetadata>(metadata_names::kBlackbodyIntensity)) return d->value();
   return std::nullopt;
 }
 

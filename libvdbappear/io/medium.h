@@ -20,6 +20,7 @@ inline constexpr const char* kSggxDiag = "sggx_diag";
 inline constexpr const char* kSggxOffdiag = "sggx_offdiag";
 inline constexpr const char* kHgG = "hg_g";
 inline constexpr const char* kEmission = "emission";  // Vec3SGrid, docs/medium.md §3b
+inline constexpr const char* kBlackbodyTemperature = "blackbody_temperature";  // FloatGrid, kelvin (§3b)
 inline constexpr const char* kCluster = "cluster";
 inline constexpr const char* kPhaseId = "phase_id";
 inline constexpr const char* kPhaseTable = "phase_table";
@@ -41,6 +42,7 @@ inline constexpr const char* kHistory = "history";
 inline constexpr const char* kHgG = "hg_g";
 inline constexpr int kSchemaVersion = 1;
 inline constexpr const char* kEmissionConvention = "emission_convention";  // string: cycles, pbrt (§3b)
+inline constexpr const char* kBlackbodyIntensity = "blackbody_intensity";  // float in [0, 1], on blackbody_temperature's grid (§3b)
 inline constexpr const char* kExemplarCount = "exemplar_count";  // int N
 inline constexpr const char* kExemplarBlock = "exemplar_block";  // vec3i: voxels per block along x,y,z
 inline constexpr const char* kExemplarVoxelSize = "exemplar_voxel_size";  // vec3d: the voxels exemplar_block counts
@@ -84,8 +86,8 @@ typename GridT::Ptr findOtherGrid(const Medium& medium, const std::string& name)
 // beyond its centre): the corners of the index box grown by 1/2, through the transform.
 openvdb::BBoxd worldBoxOfCells(const openvdb::math::Transform& transform, const openvdb::CoordBBox& voxels);
 
-// The index box of the density's active voxels and of the emission's (a flame may reach beyond the
-// smoke): what a picture of the medium frames.
+// The index box of the density's active voxels and of the emission's and blackbody temperature's (a
+// flame may reach beyond the smoke): what a picture of the medium frames.
 openvdb::CoordBBox framedVoxels(const Medium& medium);
 
 // Drops the grids of other_grids with this name.
@@ -99,5 +101,8 @@ bool isBlockIndexedGridName(const std::string& name);
 
 // The constant HG asymmetry stored as file metadata `hg_g` (float or double), if any.
 std::optional<double> hgGMetadata(const openvdb::MetaMap& metadata);
+
+// The `blackbody_intensity` of a blackbody_temperature grid (float or double metadata), if any.
+std::optional<double> blackbodyIntensityMetadata(const openvdb::MetaMap& grid);
 
 }  // namespace vdbappear

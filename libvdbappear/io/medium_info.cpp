@@ -1,6 +1,7 @@
 #include "libvdbappear/io/medium_info.h"
 
 #include "libvdbappear/io/emission_convention.h"
+#include "libvdbappear/medium/emission_light.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium.h"
 
@@ -19,6 +20,8 @@ std::optional<std::string> contractRole(const std::string& name) {
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return "SGGX matrix S: how the flakes are oriented (section 4)";
   if (name == grid_names::kHgG) return "Henyey-Greenstein asymmetry g per voxel";
   if (name == grid_names::kEmission) return "emitted light, read by metadata emission_convention (section 3b)";
+  if (name == grid_names::kBlackbodyTemperature)
+    return "temperature in kelvin, emitting Cycles' blackbody light, read by metadata emission_convention (section 3b)";
   if (isLobeGridName(name)) return "a lobe of the multi-lobe phase function (section 5)";
   if (name == grid_names::kCluster) return "voxel cluster of the lobe-weight factors (section 5)";
   if (name == grid_names::kPhaseId || name == grid_names::kPhaseTable) return "tabulated phase functions (section 6)";
@@ -113,7 +116,11 @@ void describeValues(const Medium& medium, MediumInfo& info) {
                          "alone (--env 1) it vanishes into the background; vdb_render's default lights (a dim sky and "
                          "a sun) show it");
   }
-  if (const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission)) {
+  if (const auto temperature = blackbodyTemperatureGrid(medium)) {
+    info.blackbody_temperature = rangeOf(*temperature, [](float v) { return double(v); });
+    info.blackbody_intensity = blackbodySettings(*temperature).intensity;
+  }
+  if (const auto emission = voxelEmission(medium)) {
     info.emission = channelRanges(*emission);
     const EmissionConvention convention = emissionConvention(medium);
     info.emission_convention = emissionConventionName(convention);

@@ -33,8 +33,10 @@ struct MediumInfo {
   std::uint64_t active_voxels = 0;                 // of the density grid
   ValueRange density;
   std::optional<std::array<ValueRange, 3>> albedo;  // per channel; none: albedo 1 everywhere
-  std::optional<std::array<ValueRange, 3>> emission;  // per channel; none: nothing emits (docs/medium.md §3b)
-  std::string emission_convention;                    // cycles or pbrt, with an emission grid
+  std::optional<std::array<ValueRange, 3>> emission;  // per voxel and channel, blackbody light included; none: nothing emits (docs/medium.md §3b)
+  std::string emission_convention;                    // cycles or pbrt, when the medium emits
+  std::optional<ValueRange> blackbody_temperature;    // kelvin, with a blackbody_temperature grid (§3b)
+  double blackbody_intensity = 1;                     // its Blackbody Intensity
   std::vector<std::string> notes;                   // what a user should know before rendering
   std::string render_command;                       // vdb_render FILE -o NAME.png --camera-... (POSIX-shell quoted)
 };

@@ -159,10 +159,26 @@ void checkEmission(const GridT& emission, const std::string& source) {
                                           [](const ValueT& e) { return describeEmission(openvdb::Vec3s(e)); }));
 }
 
+// A blackbody_temperature grid (docs/medium.md §3b): kelvin >= 0, background 0, and a Blackbody
+// Intensity in [0, 1] if its metadata gives one.
+void checkBlackbodyTemperature(const openvdb::FloatGrid& temperature, const std::string& source) {
+  if (temperature.background() != 0.0f)
+    fail(source, temperature.getName(),
+         fmt::format("background is {}, expected 0 (inactive voxels emit nothing)", temperature.background()));
+  if (const auto intensity = blackbodyIntensityMetadata(temperature); intensity && !(*intensity >= 0 && *intensity <= 1))
+    fail(source, temperature.getName(), fmt::format("metadata {} is {}, expected a number in [0, 1]",
+                                                    metadata_names::kBlackbodyIntensity, *intensity));
+  checkValues(temperature, source,
+              valueRule([](float T) { return T >= 0 && T <= FLT_MAX; },
+                        [](float T) { return fmt::format("temperature {} K is {}", T, std::isfinite(T) ? "negative" : "not finite"); }));
+}
+
 // Value types the contract requires of a grid name, or nullopt for names it does not define.
 std::optional<std::vector<std::string>> requiredValueTypes(const std::string& name) {
   using Types = std::vector<std::string>;
-  if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable) return Types{"float"};
+  if (name == grid_names::kDensity || name == grid_names::kHgG || name == grid_names::kPhaseTable ||
+      name == grid_names::kBlackbodyTemperature)
+    return Types{"float"};
   if (name == grid_names::kAlbedo || name == grid_names::kEmission) return Types{"vec3s", "float"};
   if (name == grid_names::kSggxDiag || name == grid_names::kSggxOffdiag) return Types{"vec3s"};
   if (name == grid_names::kCluster || name == grid_names::kPhaseId || isBlockIndexedGridName(name))
@@ -300,6 +316,8 @@ void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
   } else if (name == grid_names::kEmission) {
     if (const auto* rgb = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) checkEmission(*rgb, source);
     else checkEmission(static_cast<const openvdb::FloatGrid&>(grid), source);
+  } else if (name == grid_names::kBlackbodyTemperature) {
+    checkBlackbodyTemperature(static_cast<const openvdb::FloatGrid&>(grid), source);
   } else if (const auto* vec3 = dynamic_cast<const openvdb::Vec3SGrid*>(&grid)) {
     checkFinite(*vec3, source);
   } else if (const auto* scalar = dynamic_cast<const openvdb::FloatGrid*>(&grid)) {

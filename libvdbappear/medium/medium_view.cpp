@@ -3,6 +3,7 @@
 #include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/phase_tables.h"
+#include "libvdbappear/medium/emission_light.h"
 #include "libvdbappear/medium/majorant_grid.h"
 #include "libvdbappear/medium/majorant_traversal.h"
 #include "libvdbappear/modularity/instance_mapping.h"
@@ -56,8 +57,16 @@ struct MediumView::Impl {
   openvdb::Int32Grid::Ptr phase_id, cluster;
   int cluster_count = 0;
   std::optional<InstanceMapping> instances;  // an instanced model: lookups go through its layout
-  openvdb::Vec3SGrid::Ptr emission;           // docs/medium.md §3b; null: nothing emits
+  openvdb::Vec3SGrid::Ptr emission;           // docs/medium.md §3b; null: no emission grid
+  openvdb::FloatGrid::Ptr blackbody_temperature;  // §3b, kelvin; null: no blackbody light
+  PrincipledBlackbody blackbody;
+  std::optional<BlackbodyTable> blackbody_colours;  // made only for a medium with blackbody_temperature
   EmissionConvention emission_convention = EmissionConvention::kCycles;
+
+  bool emits() const { return emission || blackbody_temperature; }
+  Rgb blackbodyLight(double kelvin) const {  // Principled Volume's light at this temperature
+    return blackbody_temperature ? principledBlackbodyEmission(kelvin, blackbody, *blackbody_colours) : Rgb(Rgb::Zero());
+  }
 
   void findInstances();
   void readEmission();
@@ -89,17 +98,21 @@ void MediumView::Impl::findTransform() {
 void MediumView::Impl::findInstances() {
   instances = InstanceMapping::of(*medium, kMajorantBlock);
   if (!instances) return;
-  if (emission) fail(grid_names::kEmission, "an instanced model cannot emit yet; assemble it without --instanced");
+  if (emits())
+    fail(emission ? grid_names::kEmission : grid_names::kBlackbodyTemperature,
+         "an instanced model cannot emit yet; assemble it without --instanced");
   if (interpolation != Interpolation::kNearest)
     throw MediumError(fmt::format("{}: an instanced model renders with nearest lookups (--interp nearest); for "
                                   "trilinear lookups assemble it without --instanced", medium->source));
 }
 
 void MediumView::Impl::readEmission() {
-  for (const auto& grid : medium->other_grids)  // the reader makes every emission RGB; media built in code may not
-    if (grid->getName() == grid_names::kEmission && !grid->isType<openvdb::Vec3SGrid>())
-      fail(grid_names::kEmission, fmt::format("holds {} values, expected vec3s", grid->valueType()));
-  emission = findOtherGrid<openvdb::Vec3SGrid>(*medium, grid_names::kEmission);
+  emission = emissionGrid(*medium);
+  blackbody_temperature = blackbodyTemperatureGrid(*medium);
+  if (blackbody_temperature) {
+    blackbody = blackbodySettings(*blackbody_temperature);
+    blackbody_colours.emplace();
+  }
   emission_convention = emissionConvention(*medium);
 }
 
@@ -201,8 +214,9 @@ MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignor
   impl_->medium = std::move(medium);
   impl_->interpolation = interpolation;
   impl_->readEmission();
-  const bool emits_where_empty = impl_->emission && impl_->emission_convention == EmissionConvention::kCycles;
-  impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation, emits_where_empty ? impl_->emission.get() : nullptr);
+  const bool emits_where_empty = impl_->emits() && impl_->emission_convention == EmissionConvention::kCycles;
+  impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation,
+                                      emits_where_empty ? voxelEmission(*impl_->medium).get() : nullptr);
   impl_->findInstances();
   impl_->findTransform();
   impl_->findBounds();
@@ -220,7 +234,7 @@ Interpolation MediumView::interpolation() const { return impl_->interpolation; }
 PhaseSource MediumView::phaseSource() const { return impl_->phase_source; }
 int MediumView::lobeCount() const { return impl_->phase_source == PhaseSource::kLobes ? int(impl_->lobes.size()) : 1; }
 int MediumView::clusterCount() const { return impl_->cluster_count; }
-bool MediumView::emits() const { return bool(impl_->emission); }
+bool MediumView::emits() const { return impl_->emits(); }
 std::size_t MediumView::majorantVoxelCount() const {
   return impl_->instances ? impl_->instances->modelMajorantVoxelCount(*impl_->majorant, kMajorantBlock)
                           : impl_->majorant->activeVoxelCount();
@@ -256,6 +270,7 @@ struct MediumLookup::Accessors {
   OptionalAccessor<openvdb::FloatGrid> hg_g;
   OptionalAccessor<openvdb::Int32Grid> phase_id, cluster;
   OptionalAccessor<openvdb::Vec3SGrid> emission;
+  OptionalAccessor<openvdb::FloatGrid> temperature;
   std::vector<LobeAccessors> lobes;
 
   explicit Accessors(const MediumView::Impl& view)
@@ -268,7 +283,8 @@ struct MediumLookup::Accessors {
         hg_g(accessorOf<openvdb::FloatGrid>(view.medium->hg_g)),
         phase_id(accessorOf<openvdb::Int32Grid>(view.phase_id)),
         cluster(accessorOf<openvdb::Int32Grid>(view.cluster)),
-        emission(accessorOf<openvdb::Vec3SGrid>(view.emission)) {
+        emission(accessorOf<openvdb::Vec3SGrid>(view.emission)),
+        temperature(accessorOf<openvdb::FloatGrid>(view.blackbody_temperature)) {
     for (const LobeGrids& lobe : view.lobes)
       lobes.push_back({lobe.diag->getConstAccessor(), accessorOf<openvdb::Vec3SGrid>(lobe.offdiag),
                        lobe.weight->getConstAccessor()});
@@ -297,7 +313,10 @@ struct MediumLookup::Accessors {
   double hgAt(const openvdb::Coord& v) { return hg_g ? hg_g->getValue(at(v)) : 0.0; }
   Rgb emissionAt(const openvdb::Coord& v) {  // inactive voxels emit nothing
     openvdb::Vec3s value(0.0f);
-    return emission->probeValue(at(v), value) ? toRgb(value) : Rgb(Rgb::Zero());
+    return emission && emission->probeValue(at(v), value) ? toRgb(value) : Rgb(Rgb::Zero());
+  }
+  double temperatureAt(const openvdb::Coord& v) {  // kelvin; inactive voxels are at 0 K (the background)
+    return temperature ? temperature->getValue(at(v)) : 0.0;
   }
 };
 
@@ -570,18 +589,22 @@ namespace {
 
 // The light emitted per unit length at index-space point p (docs/medium.md §3b), given sigma_t
 // there toward the ray's direction: E under the cycles convention; sigma_a Le = sigma_t (1 - albedo)
-// Le under pbrt's, with (1 - albedo) Le weighted by density over the trilinear stencil.
+// Le under pbrt's, with (1 - albedo) Le weighted by density over the trilinear stencil. The
+// blackbody light is that of the interpolated temperature, as Cycles interpolates the attribute
+// before its Principled Volume makes light of it.
 Rgb emittedAt(MediumLookup::Accessors& a, const MediumView::Impl& view, const Vec3& p, double sigma_t) {
   const bool per_length = view.emission_convention == EmissionConvention::kCycles;
   if (!per_length && !(sigma_t > 0)) return Rgb::Zero();
   if (view.interpolation == Interpolation::kNearest) {
     const openvdb::Coord v = nearestVoxel(p);
-    return per_length ? a.emissionAt(v) : Rgb(sigma_t * (1 - a.albedoAt(v)) * a.emissionAt(v));
+    const Rgb light = a.emissionAt(v) + view.blackbodyLight(a.temperatureAt(v));
+    return per_length ? light : Rgb(sigma_t * (1 - a.albedoAt(v)) * light);
   }
   const TrilinearStencil stencil(p);
-  Rgb sum = Rgb::Zero();
-  double rho_sum = 0;
+  Rgb sum = Rgb::Zero(), absorbing = Rgb::Zero();  // pbrt: sums of w rho (1 - a) Le and of w rho (1 - a)
+  double kelvin = 0, rho_sum = 0;
   for (int c = 0; c < 8; ++c) {
+    kelvin += stencil.weight[c] * a.temperatureAt(stencil.ijk(c));
     if (per_length) {
       sum += stencil.weight[c] * a.emissionAt(stencil.ijk(c));
       continue;
@@ -589,10 +612,12 @@ Rgb emittedAt(MediumLookup::Accessors& a, const MediumView::Impl& view, const Ve
     const double w = stencil.weight[c] * a.rho(stencil.ijk(c));
     if (!(w > 0)) continue;
     rho_sum += w;
+    absorbing += w * (1 - a.albedoAt(stencil.ijk(c)));
     sum += w * (1 - a.albedoAt(stencil.ijk(c))) * a.emissionAt(stencil.ijk(c));
   }
-  if (per_length) return sum;
-  return rho_sum > 0 ? Rgb(sigma_t * sum / rho_sum) : Rgb(Rgb::Zero());
+  const Rgb blackbody = view.blackbodyLight(kelvin);
+  if (per_length) return sum + blackbody;
+  return rho_sum > 0 ? Rgb(sigma_t * (sum + absorbing * blackbody) / rho_sum) : Rgb(Rgb::Zero());
 }
 
 }  // namespace
@@ -600,7 +625,7 @@ Rgb emittedAt(MediumLookup::Accessors& a, const MediumView::Impl& view, const Ve
 std::optional<double> MediumLookup::sampleCollision(const Vec3& o, const Vec3& d, double t_max, RandomStream& rng,
                                                     Rgb* emitted) {
   std::optional<double> collision;
-  const bool score_emission = emitted && view_.emission;
+  const bool score_emission = emitted && view_.emits();
   const Vec3 o_index = view_.world_to_index * o + view_.index_of_origin, d_index = view_.world_to_index * d;
   forEachMajorantEvent(view_, *accessors_, stats_, o, d, t_max, rng, [&](double t, double sigma_t, double sigma_maj) {
     // Every majorant event, real or null, scores E / sigma_maj: the events' density is sigma_maj T,

@@ -63,7 +63,7 @@ class MediumView {
   PhaseSource phaseSource() const;
   int lobeCount() const;     // lobes per voxel when phaseSource() is kLobes, else 1
   int clusterCount() const;  // 1 + the largest id of the `cluster` grid; 0 without one
-  bool emits() const;        // the medium has an `emission` grid (docs/medium.md §3b)
+  bool emits() const;        // the medium has an `emission` or `blackbody_temperature` grid (docs/medium.md §3b)
   std::size_t majorantVoxelCount() const;
   // An instanced model (docs/modularity.md): the voxels it would have if built; 0 for other media.
   std::uint64_t instancedVoxelCount() const;

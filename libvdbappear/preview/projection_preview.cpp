@@ -1,6 +1,7 @@
 #include "libvdbappear/preview/projection_preview.h"
 
 #include "libvdbappear/io/emission_convention.h"
+#include "libvdbappear/medium/emission_light.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/util/progress.h"
 
@@ -19,12 +20,12 @@ namespace {
 // Nearest-voxel lookups of the grids the preview needs, one set per thread.
 class VoxelLookup {
  public:
-  explicit VoxelLookup(const Medium& m)
+  VoxelLookup(const Medium& m, const openvdb::Vec3SGrid* emission)
       : density_(m.density->getConstAccessor()),
         albedo_(m.albedo ? std::optional(m.albedo->getConstAccessor()) : std::nullopt),
         diag_(m.sggx_diag ? std::optional(m.sggx_diag->getConstAccessor()) : std::nullopt),
         offdiag_(m.sggx_offdiag ? std::optional(m.sggx_offdiag->getConstAccessor()) : std::nullopt) {
-    if (const auto e = findOtherGrid<openvdb::Vec3SGrid>(m, grid_names::kEmission)) emission_.emplace(e->getConstAccessor());
+    if (emission) emission_.emplace(emission->getConstAccessor());
   }
 
   float density(const openvdb::Coord& c) const { return density_.getValue(c); }
@@ -100,7 +101,7 @@ std::optional<std::pair<double, double>> clipToBox(const Vec3& o, const Vec3& d,
 
 RgbImage renderPreview(const Medium& medium, const PreviewOptions& options, ProgressBar* progress) {
   const openvdb::CoordBBox box = framedVoxels(medium);
-  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(medium, grid_names::kEmission);
+  const auto emission = voxelEmission(medium);  // nearest lookups: each voxel's emission and blackbody light
   // The medium's own light over one step (docs/medium.md §3b): E dt, or under pbrt's convention the
   // absorbed share of the step's extinction times Le.
   const bool per_length = !emission || emissionConvention(medium) == EmissionConvention::kCycles;
@@ -118,7 +119,7 @@ RgbImage renderPreview(const Medium& medium, const PreviewOptions& options, Prog
   if (progress) progress->setTotal(std::uint64_t(height));
 
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
-    const VoxelLookup voxels(medium);
+    const VoxelLookup voxels(medium, emission.get());
     auto optical_depth = [&](const openvdb::Coord& c, const Vec3& w, double length) {
       const float rho = voxels.density(c);
       return rho > 0 ? rho * voxels.sigma(c, w) * length * voxel_size : 0.0;

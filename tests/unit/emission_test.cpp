@@ -7,6 +7,7 @@
 #include "libvdbappear/io/medium_info.h"
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/medium/blackbody.h"
+#include "libvdbappear/medium/emission_light.h"
 #include "libvdbappear/preview/projection_preview.h"
 #include "libvdbappear/procedural/random_medium.h"
 
@@ -93,6 +94,85 @@ TEST(Emission, ScatteredEmissionAddsToTheCameraRaysEmission) {
   const test::Render every_bounce = test::renderStraightDown(medium, json::array(), test::small(4, 2000));
   test::expectImage(camera_only, 1.0 / 4 * (1 - std::exp(-4.0)), "camera rays");
   EXPECT_GT(every_bounce.mean, camera_only.mean * 1.5);  // albedo 0.9: most emitted light scatters out
+}
+
+// A blackbody_temperature grid over the voxels (x, y) in [-2, 10]^2, z in [0, 7], at kelvin(z).
+openvdb::FloatGrid::Ptr temperatureRamp(const Medium& medium, double (*kelvin)(int)) {
+  auto grid = test::namedGridLike<openvdb::FloatGrid>(medium, grid_names::kBlackbodyTemperature, 0.0f);
+  for (int z = 0; z < 8; ++z)
+    grid->denseFill(openvdb::CoordBBox(Coord(-2, -2, z), Coord(10, 10, z)), float(kelvin(z)), true);
+  return grid;
+}
+
+// Blackbody light (docs/medium.md §3b) is made from the interpolated temperature, as Cycles makes
+// it: straight down through a temperature ramp (1500 K to 3600 K over 8 voxels, 0 K beyond), without
+// density or lights, trilinear lookups give h times the integral of B(T(z)) with T interpolated
+// between voxel centres, nearest lookups h sum B(T_k). Negative control: the integral of the
+// interpolated per-voxel light, what an emission grid made of each voxel's light would give, is
+// far off (B grows as T^4: over the half voxels where T falls to 0 K it is 5/2 times larger).
+TEST(Emission, BlackbodyLightIsThatOfTheInterpolatedTemperature) {
+  const double h = 1.0 / 8;
+  double (*kelvin)(int) = [](int z) { return z < 0 || z > 7 ? 0.0 : 1500.0 + 300.0 * z; };
+  const BlackbodyTable table;
+  PrincipledBlackbody settings;
+  settings.kelvin = 1;
+  auto B = [&](double T) { return principledBlackbodyEmission(T, settings, table); };
+  Rgb nearest = Rgb::Zero(), trilinear = Rgb::Zero(), interpolated_light = Rgb::Zero();
+  for (int z = 0; z < 8; ++z) nearest += h * B(kelvin(z));
+  const int n = 64;  // Simpson's rule over each voxel-to-voxel segment
+  for (int z = -1; z < 8; ++z)
+    for (int i = 0; i <= n; ++i) {
+      const double f = double(i) / n, w = (i == 0 || i == n ? 1 : i % 2 ? 4 : 2) * h / (3 * n);
+      trilinear += w * B((1 - f) * kelvin(z) + f * kelvin(z + 1));
+      interpolated_light += w * ((1 - f) * B(kelvin(z)) + f * B(kelvin(z + 1)));
+    }
+  for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
+    auto medium = test::cube(1, h, 1.0f, 1.0f);
+    medium->density->tree().clear();
+    medium->density->tree().setValueOn(Coord(40, 40, 40), 1.0f);  // off every ray
+    medium->other_grids.push_back(temperatureRamp(*medium, kelvin));
+    const test::Render r = test::renderStraightDown(medium, json::array(), test::small(4, 4000), Vec3::Constant(3.5 * h), interp);
+    test::expectImage(r, interp == Interpolation::kNearest ? nearest : trilinear, name(interp));
+    if (interp == Interpolation::kTrilinear)
+      EXPECT_GT(std::abs(r.mean - interpolated_light.mean()), 20 * r.error) << "negative control";
+  }
+}
+
+// Downsampling makes blackbody light into emission (docs/medium.md §3b): the coarse medium has no
+// blackbody_temperature, and its emission is the mean of the children's emission plus blackbody
+// light (here at Blackbody Intensity 0.5), by brute force.
+TEST(Emission, DownsamplingMakesBlackbodyLightIntoEmission) {
+  auto fine = test::cube(8, 1.0, 2.0f, 0.5f);
+  auto temperature = test::namedGridLike<openvdb::FloatGrid>(*fine, grid_names::kBlackbodyTemperature, 0.0f);
+  test::TestRandom random(7);
+  for (auto v = openvdb::CoordBBox(Coord(-2), Coord(9)).begin(); v; ++v)
+    if (random.uniform() < 0.5) temperature->tree().setValueOn(*v, float(4000 * random.uniform()));
+  temperature->insertMeta(metadata_names::kBlackbodyIntensity, openvdb::FloatMetadata(0.5f));
+  fine->other_grids.push_back(temperature);
+  fine->other_grids.push_back(emissionOver(*fine, openvdb::CoordBBox(Coord(0), Coord(3)), Rgb(0.5, 0.25, 0)));
+  const int F = 2;
+  const MediumPtr coarse = downsampleNaive(*fine, {F, SggxWeighting::Count}).medium;
+  EXPECT_FALSE(findOtherGrid<openvdb::FloatGrid>(*coarse, grid_names::kBlackbodyTemperature));
+  const auto coarse_emission = findOtherGrid<openvdb::Vec3SGrid>(*coarse, grid_names::kEmission);
+  ASSERT_TRUE(coarse_emission);
+  const BlackbodyTable table;
+  PrincipledBlackbody settings;
+  settings.kelvin = 1;
+  settings.intensity = 0.5;
+  int checked = 0;
+  for (auto v = coarse_emission->cbeginValueOn(); v; ++v, ++checked) {
+    Rgb sum = Rgb::Zero();
+    const Coord first(v.getCoord().x() * F, v.getCoord().y() * F, v.getCoord().z() * F);
+    for (auto c = openvdb::CoordBBox::createCube(first, F).begin(); c; ++c) {
+      float T = 0;
+      if (temperature->tree().probeValue(*c, T)) sum += principledBlackbodyEmission(T, settings, table);
+      if (openvdb::CoordBBox(Coord(0), Coord(3)).isInside(*c)) sum += Rgb(0.5, 0.25, 0);
+    }
+    const Rgb expected = sum / (F * F * F);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR((*v)[k], expected[k], 1e-5 * (1 + expected[k])) << v.getCoord() << ", channel " << k;
+  }
+  EXPECT_EQ(checked, 6 * 6 * 6) << "active where a child is, from -1 to 4";
 }
 
 // The coarse emission against its children, by brute force (docs/medium.md §3b); under pbrt's
@@ -214,10 +294,11 @@ TEST(Blackbody, PrincipledEmissionFollowsStefanBoltzmann) {
   EXPECT_GE(principledBlackbodyEmission(1.2, fire, table).minCoeff(), 0.0) << "negative blue clamped";
 }
 
-// emission=blackbody:GRID[:K[:I]]: parsed and printed back; a temperature grid made into light voxel
-// by voxel; and Blender's preset reads a fire's `temperature` so, with a note. Negative controls: a
-// smoke (an empty `flame`) and --from none stay dark.
-TEST(Blackbody, TemperatureGridBecomesEmission) {
+// emission=blackbody:GRID[:K[:I]]: parsed and printed back; a temperature grid read as the contract's
+// blackbody_temperature (kelvin, its intensity in the grid's metadata), whose light per voxel is
+// Principled Volume's; and Blender's preset reads a fire's `temperature` so, with a note. Negative
+// controls: a smoke (an empty `flame`) and --from none stay dark.
+TEST(Blackbody, TemperatureGridBecomesBlackbodyTemperature) {
   const GridRule rule = parseGridRule("emission=blackbody:temperature:1500:0.5");
   EXPECT_TRUE(rule.blackbody);
   EXPECT_EQ(rule.sources, std::vector<std::string>{"temperature"});
@@ -243,18 +324,29 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
   flame->setName("flame");
   for (auto& grid : {density, temperature, flame}) grid->setTransform(transform);
   test::writeRawVdb(dir.path("smoke.vdb"), {density, temperature, flame});  // heat, but no flame: a smoke
-  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(dir.path("smoke.vdb")), grid_names::kEmission));
+  EXPECT_FALSE(voxelEmission(*readMedium(dir.path("smoke.vdb"))));
   flame->tree().setValueOn(Coord(1, 0, 0), 0.5f);
   test::writeRawVdb(path, {density, temperature, flame});
   const MediumPtr fire = readMedium(path);  // --from auto: a foreign file
-  const auto emission = findOtherGrid<openvdb::Vec3SGrid>(*fire, grid_names::kEmission);
+  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*fire, grid_names::kEmission));
+  const auto kelvin = blackbodyTemperatureGrid(*fire);
+  ASSERT_TRUE(kelvin);
+  EXPECT_EQ(blackbodyIntensityMetadata(*kelvin), 1.0);
+  const auto emission = voxelEmission(*fire);
   ASSERT_TRUE(emission);
   const BlackbodyTable table;
   for (int x = 0; x < 4; ++x) {
+    EXPECT_EQ(kelvin->tree().getValue(Coord(x, 0, 0)), 1000 * (1.5f + 0.5f * x));
     const Rgb expected = principledBlackbodyEmission(1.5 + 0.5 * x, PrincipledBlackbody(), table);
     const Vec3s e = emission->tree().getValue(Coord(x, 0, 0));
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(e[k], expected[k], 1e-5 * (1 + expected[k])) << x << ", channel " << k;
   }
+  GridMapping half;
+  addGridRule(half, parseGridRule("emission=blackbody:temperature:1500:0.5"));
+  const auto half_kelvin = blackbodyTemperatureGrid(*readMedium(path, half));
+  ASSERT_TRUE(half_kelvin);
+  EXPECT_EQ(half_kelvin->tree().getValue(Coord(1, 0, 0)), 1500 * 2.0f);
+  EXPECT_EQ(blackbodySettings(*half_kelvin).intensity, 0.5);
   ASSERT_EQ(fire->read_notes.size(), 1u);
   EXPECT_NE(fire->read_notes[0].find("Blender's fire (Quick Smoke's Principled Volume: blackbody at 1000 K per unit of "
                                      "'temperature'): read as --grid emission=blackbody:temperature"),
@@ -262,7 +354,7 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
       << fire->read_notes[0];
   GridMapping none;
   none.preset = GridPreset::kNone;
-  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, none), grid_names::kEmission));
+  EXPECT_FALSE(voxelEmission(*readMedium(path, none)));
 
   // A negative temperature: an error naming the rule, the grid and the voxel when asked for; left
   // out with a note when the preset detected it.
@@ -274,13 +366,13 @@ TEST(Blackbody, TemperatureGridBecomesEmission) {
   EXPECT_EQ(test::readMediumError(cold, asked),
             cold + ": --grid emission=blackbody:temperature: grid 'temperature': temperature -0.5 is negative at voxel (2,0,0)");
   const MediumPtr detected = readMedium(cold);
-  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*detected, grid_names::kEmission));
+  EXPECT_FALSE(voxelEmission(*detected));
   ASSERT_EQ(detected->read_notes.size(), 1u);
   EXPECT_NE(detected->read_notes[0].find("not read as --grid emission=blackbody:temperature"), std::string::npos)
       << detected->read_notes[0];
   GridMapping houdini;
   houdini.preset = GridPreset::kHoudini;
-  EXPECT_FALSE(findOtherGrid<openvdb::Vec3SGrid>(*readMedium(path, houdini), grid_names::kEmission));
+  EXPECT_FALSE(voxelEmission(*readMedium(path, houdini)));
 }
 
 MediumPtr densityCube() { return test::cube(4, 1.0, 1.0f, 0.5f); }
@@ -318,6 +410,36 @@ TEST(Emission, BadEmissionIsRefusedNamingTheGrid) {
   medium = densityCube();
   medium->other_grids.push_back(test::namedGridLike<openvdb::Int32Grid>(*medium, grid_names::kEmission));
   EXPECT_NE(errorOf(*medium).find("grid 'emission': holds int32 values, expected vec3s"), std::string::npos) << errorOf(*medium);
+}
+
+// A blackbody_temperature grid (docs/medium.md §3b) that is negative, not finite, of another type,
+// has a background, or an intensity outside [0, 1]: one line naming the grid.
+TEST(Emission, BadBlackbodyTemperatureIsRefusedNamingTheGrid) {
+  auto withTemperature = [](float value, float background = 0.0f) {
+    MediumPtr medium = densityCube();
+    auto grid = test::namedGridLike<openvdb::FloatGrid>(*medium, grid_names::kBlackbodyTemperature, background);
+    grid->tree().setValueOn(Coord(1, 2, 3), value);
+    medium->other_grids.push_back(grid);
+    return medium;
+  };
+  EXPECT_EQ(errorOf(*withTemperature(1500.0f)), "");
+  EXPECT_NE(errorOf(*withTemperature(-5.0f)).find("grid 'blackbody_temperature': temperature -5 K is negative at voxel (1,2,3)"),
+            std::string::npos)
+      << errorOf(*withTemperature(-5.0f));
+  EXPECT_NE(errorOf(*withTemperature(NAN)).find("grid 'blackbody_temperature': temperature nan K is not finite"), std::string::npos)
+      << errorOf(*withTemperature(NAN));
+  EXPECT_NE(errorOf(*withTemperature(1500.0f, 300.0f)).find("grid 'blackbody_temperature': background is 300, expected 0"),
+            std::string::npos)
+      << errorOf(*withTemperature(1500.0f, 300.0f));
+  MediumPtr loud = withTemperature(1500.0f);
+  loud->other_grids.back()->insertMeta(metadata_names::kBlackbodyIntensity, openvdb::FloatMetadata(2.0f));
+  EXPECT_NE(errorOf(*loud).find("grid 'blackbody_temperature': metadata blackbody_intensity is 2, expected a number in [0, 1]"),
+            std::string::npos)
+      << errorOf(*loud);
+  MediumPtr rgb = densityCube();
+  rgb->other_grids.push_back(test::namedGridLike<openvdb::Vec3SGrid>(*rgb, grid_names::kBlackbodyTemperature));
+  EXPECT_NE(errorOf(*rgb).find("grid 'blackbody_temperature': holds vec3s values, expected float"), std::string::npos)
+      << errorOf(*rgb);
 }
 
 TEST(Emission, UnknownConventionIsRefused) {
