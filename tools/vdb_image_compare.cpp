@@ -108,12 +108,14 @@ int main(int argc, char** argv) {
                                  {"mask", mask_image}, {"tile", tile},
                                  {"mean_reference", c.mean_reference}, {"mean_test", c.mean_test},
                                  {"mean_relative_error", c.mean_relative_error}, {"rmse", c.rmse},
-                                 {"relative_rmse", c.relative_rmse}, {"max_abs_error", c.max_abs_error}};
+                                 {"relative_rmse", c.relative_rmse}, {"max_abs_error", c.max_abs_error},
+                                 {"worst_relative_error", c.worst_relative_error}};
     if (!report.empty()) {
       tool::writeJsonReport(report, json);
     } else {
-      fmt::print("mean {:.6g} vs {:.6g} ({:+.2f}%), RMSE {:.4g} ({:.2f}% of the mean)\n", c.mean_reference, c.mean_test,
-                 100 * c.mean_relative_error, c.rmse, 100 * c.relative_rmse);
+      fmt::print("mean {:.6g} vs {:.6g} ({:+.2f}%), RMSE {:.4g} ({:.2f}% of the mean), worst {} {:.2f}%\n",
+                 c.mean_reference, c.mean_test, 100 * c.mean_relative_error, c.rmse, 100 * c.relative_rmse,
+                 tile > 1 ? fmt::format("{}x{} tile", tile, tile) : std::string("pixel"), 100 * c.worst_relative_error);
     }
     return 0;
   });

@@ -42,6 +42,12 @@ ImageComparison compareImages(const RgbImage& reference, const RgbImage& test, c
     }
   }
   c.rmse = std::sqrt(squares / (3.0 * pixels));
+  const double floor = std::abs(c.mean_reference);
+  for (std::size_t i = 0; i < all; ++i) {
+    if (!mask.empty() && !mask[i]) continue;
+    const double ref = pixelMean(reference, i), scale = std::max(std::abs(ref), floor);
+    if (scale > 0) c.worst_relative_error = std::max(c.worst_relative_error, std::abs(pixelMean(test, i) - ref) / scale);
+  }
   c.mean_relative_error = c.mean_reference != 0 ? (c.mean_test - c.mean_reference) / c.mean_reference : 0;
   c.relative_rmse = c.mean_reference != 0 ? c.rmse / std::abs(c.mean_reference) : 0;
   return c;

@@ -14,6 +14,10 @@ struct ImageComparison {
   double rmse = 0;                           // over pixels and channels
   double relative_rmse = 0;                  // rmse / mean_reference
   double max_abs_error = 0;
+  // max over pixels of |test - ref| / max(|ref|, |mean_reference|), channel means: the worst pixel
+  // (the worst tile, on tileMeans), relative to itself where brighter than the mean and to the mean
+  // where darker, so that a dim pixel's noise does not dominate.
+  double worst_relative_error = 0;
 };
 
 // Throws std::invalid_argument when the sizes differ. With a mask (one flag per pixel), only the

@@ -29,6 +29,23 @@ TEST(ImageCompare, MeansRmseAndMask) {
   EXPECT_THROW(compareImages(reference, constantImage(1, 2, 1.0f)), std::invalid_argument);
 }
 
+// The worst pixel's error is relative to the pixel where it is brighter than the image mean and to
+// the mean where darker: a dim pixel off by a little does not dominate, a bright one off counts.
+TEST(ImageCompare, WorstRelativeErrorIsRelativeToThePixelOrTheMean) {
+  RgbImage reference = constantImage(4, 1, 0.0f), test = constantImage(4, 1, 0.0f);
+  const float ref[4] = {4.0f, 0.01f, 2.0f, 2.0f}, got[4] = {4.4f, 0.11f, 2.0f, 1.9f};  // mean 2.0025
+  for (int x = 0; x < 4; ++x)
+    for (int c = 0; c < 3; ++c) {
+      reference.at(x, 0)[c] = ref[x];
+      test.at(x, 0)[c] = got[x];
+    }
+  const ImageComparison c = compareImages(reference, test);
+  EXPECT_NEAR(c.worst_relative_error, 0.4 / 4.0, 1e-6) << "the bright pixel, +10% of itself";
+  EXPECT_NEAR(compareImages(reference, test, {false, true, true, true}).worst_relative_error, 0.1 / (4.01 / 3), 1e-6)
+      << "the dim pixel, relative to the mean of the counted pixels";
+  EXPECT_EQ(compareImages(reference, reference).worst_relative_error, 0.0);
+}
+
 TEST(ImageCompare, TileMeansAverageBlocksAndDropTheRemainder) {
   RgbImage image(5, 4);  // 2x2 tiles: 2 x 2 of them, column 4 dropped
   for (int y = 0; y < 4; ++y)
