@@ -74,6 +74,7 @@ std::optional<PresetRule> emissionRule(const openvdb::GridPtrVec& grids, GridPre
     case GridPreset::kBlender: return blenderFire(grids);
     case GridPreset::kAuto:
       if (hasAnyGrid(grids, grid_names::kAlbedo)) return std::nullopt;  // a medium of the contract
+      if (hasAnyGrid(grids, "Cd") || hasAnyGrid(grids, "vel")) return std::nullopt;  // Houdini's names: not Blender's fire
       return blenderFire(grids);
     case GridPreset::kHoudini:  // Houdini's pyro shaders map temperature through ramps of their own
     case GridPreset::kNone: break;

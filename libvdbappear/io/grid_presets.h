@@ -8,7 +8,8 @@
 // - Blender, Volume object: a vec3s `color`, the same colour undivided: albedo=color.
 // - Houdini: a vec3s `Cd`: albedo=Cd.
 // - Blender, fire: a float `temperature`: emission=blackbody:temperature, Quick Smoke's fire material
-//   (Principled Volume, Blackbody Intensity 1, Temperature 1000 K).
+//   (Principled Volume, Blackbody Intensity 1, Temperature 1000 K), when its `flame` has voxels;
+//   detected (kAuto) only in a file without Houdini's `Cd` or `vel`.
 // Every convention names its density `density`, the contract's own name.
 
 #include "libvdbappear/io/grid_mapping.h"
