@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training bench-mpi lobes similarity lightgrid optimize modularity subsurface displacement clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training bench-mpi lobes similarity lightgrid optimize modularity subsurface displacement interop clean
 
 all: build
 
@@ -109,7 +109,12 @@ subsurface: build
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR)
 
+# VDBs from Blender and Houdini (issue 26): the kept foreign files rendered by vdb_render and by Blender
+# Cycles with the same grids, lights and camera; mean and worst 8x8 tile against the issue's gates.
+interop: build
+	@scripts/interop_experiment.py --build $(BUILD_DIR)
+
 clean:
-	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out subsurface-out displacement-out fuzz-out media
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) demo-out bench-out lobes-out similarity-out lightgrid-out optimize-out modularity-out subsurface-out displacement-out interop-out fuzz-out media
 
 include scripts/media.mk

@@ -12,7 +12,11 @@ coefficients as vdb_render: sigma_s = trilinear(rho * albedo), sigma_a = triline
 Benchmark only (scripts/bench_render.py): needs Debian's python3-openvdb (pyopenvdb) and numpy,
 hence /usr/bin/python3 rather than whatever python3 comes first on PATH.
 
-Usage: scripts/premultiply_albedo.py IN.vdb OUT.vdb
+Benchmark and make interop only (scripts/bench_render.py, scripts/interop_experiment.py).
+
+Usage: scripts/premultiply_albedo.py IN.vdb OUT.vdb [--albedo GRID]
+  --albedo GRID: the albedo's grid (default "albedo"; "Cd" for a Houdini file, which the tools' Houdini
+  preset reads as the albedo)
 """
 import sys
 
@@ -26,15 +30,25 @@ def fail(message):
 
 
 def main():
-    if len(sys.argv) != 3:
-        fail("usage: premultiply_albedo.py IN.vdb OUT.vdb")
-    src, dst = sys.argv[1], sys.argv[2]
+    args = sys.argv[1:]
+    albedo_name = "albedo"
+    if "--albedo" in args:
+        k = args.index("--albedo")
+        if k + 1 >= len(args):
+            fail("--albedo needs a grid name")
+        albedo_name = args[k + 1]
+        del args[k:k + 2]
+    if len(args) != 2:
+        fail("usage: premultiply_albedo.py IN.vdb OUT.vdb [--albedo GRID]")
+    src, dst = args
     grids, metadata = vdb.readAll(src)
     by_name = {g.name: g for g in grids}
     if "density" not in by_name:
         fail(f"{src}: no grid named 'density'")
     density = by_name["density"]
-    albedo = by_name.get("albedo")  # none: albedo 1
+    albedo = by_name.get(albedo_name)  # none: albedo 1
+    if albedo is None and albedo_name != "albedo":
+        fail(f"{src}: no grid named '{albedo_name}'")
     (x0, y0, z0), (x1, y1, z1) = density.evalActiveVoxelBoundingBox()
     shape = (x1 - x0 + 1, y1 - y0 + 1, z1 - z0 + 1)
     rho = np.zeros(shape, dtype=np.float32)
