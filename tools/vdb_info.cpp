@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <iostream>
 
 using namespace vdbappear;
@@ -50,8 +52,11 @@ std::string rangeText(const ValueRange& r) { return fmt::format("{:.4g} .. {:.4g
 
 void printInfo(const MediumInfo& info, const std::string& file) {
   fmt::print("{}\n", file);
+  std::size_t name_width = 16;  // the column fits the longest name (blackbody_temperature)
+  for (const GridRole& g : info.grids) name_width = std::max(name_width, g.name.size());
   for (const GridRole& g : info.grids)
-    fmt::print("  {:<16} {:<6} {:>12} voxels  {} {}\n", g.name, g.type, g.active_voxels, g.used ? "used:" : "NOT READ:", g.role);
+    fmt::print("  {:<{}} {:<6} {:>12} voxels  {} {}\n", g.name, name_width, g.type, g.active_voxels,
+               g.used ? "used:" : "NOT READ:", g.role);
   for (const auto& [name, value] : info.metadata) fmt::print("  metadata {}: {}\n", name, value);
   fmt::print("world box   ({:.4g}, {:.4g}, {:.4g}) .. ({:.4g}, {:.4g}, {:.4g})\n", info.world_min[0], info.world_min[1],
              info.world_min[2], info.world_max[0], info.world_max[1], info.world_max[2]);
