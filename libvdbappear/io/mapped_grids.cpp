@@ -3,10 +3,10 @@
 #include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/set_active_values.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
-#include <openvdb/tools/ValueTransformer.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -57,9 +57,13 @@ typename GridT::Ptr scaledCopy(const GridT& grid, const std::string& role, doubl
   if (scale != 1) {
     using ValueT = typename GridT::ValueType;
     const auto factor = static_cast<float>(scale);
-    openvdb::tools::foreach(copy->beginValueAll(), [factor](const typename GridT::ValueAllIter& it) {
-      it.setValue(ValueT(it.getValue() * factor));
+    openvdb::tree::LeafManager<typename GridT::TreeType> leaves(copy->tree());  // every value, leaf by leaf
+    leaves.foreach([factor](typename GridT::TreeType::LeafNodeType& leaf, std::size_t) {
+      for (auto v = leaf.beginValueAll(); v; ++v) v.setValue(ValueT(*v * factor));
     });
+    auto tile = copy->tree().beginValueAll();
+    tile.setMaxDepth(GridT::TreeType::ValueAllIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) tile.setValue(ValueT(*tile * factor));
     // The inactive values are scaled above; the root's background is not one of them.
     copy->tree().root().setBackground(ValueT(copy->background() * factor), /*updateChildNodes=*/false);
   }
@@ -85,20 +89,11 @@ openvdb::Vec3SGrid::Ptr rgbOfThree(const std::array<openvdb::FloatGrid::Ptr, 3>&
   rgb->setName(rule.role);
   rgb->setTransform(channels[0]->transform().copy());
   for (const auto& channel : channels) rgb->tree().topologyUnion(channel->tree());
-  struct Fill {
-    std::array<openvdb::FloatGrid::ConstAccessor, 3> channels;
-    float factor;
-    void operator()(const openvdb::Vec3SGrid::ValueOnIter& it) const {
-      const openvdb::Coord ijk = it.getCoord();  // a tile's first voxel: the channels' tiles share it
-      it.setValue(openvdb::Vec3s(channels[0].getValue(ijk), channels[1].getValue(ijk), channels[2].getValue(ijk)) *
-                  factor);
-    }
-  };
-  openvdb::tools::foreach(rgb->beginValueOn(),
-                          Fill{{channels[0]->getConstAccessor(), channels[1]->getConstAccessor(),
-                                channels[2]->getConstAccessor()},
-                               factor},
-                          /*threaded=*/true, /*shareOp=*/false);
+  setActiveValues(*rgb, [&](const openvdb::Coord& ijk, const openvdb::Vec3s&) {  // a tile: the channels' tiles share ijk
+    return openvdb::Vec3s(channels[0]->tree().getValue(ijk), channels[1]->tree().getValue(ijk),
+                          channels[2]->tree().getValue(ijk)) *
+           factor;
+  });
   return rgb;
 }
 
@@ -155,15 +150,10 @@ typename GridT::Ptr dividedBy(typename GridT::Ptr grid, const openvdb::FloatGrid
   requireSameTransform(*grid, rule.sources.front(), divisor, rule.divisor, rule, source);
   using ValueT = typename GridT::ValueType;
   grid->tree().voxelizeActiveTiles();
-  struct Divide {
-    openvdb::FloatGrid::ConstAccessor divisor;
-    void operator()(const typename GridT::ValueOnIter& it) const {
-      const float d = divisor.getValue(it.getCoord());
-      it.setValue(d > 0 ? ValueT(clampedAlbedo(it.getValue() * (1 / d))) : ValueT(1.0f));
-    }
-  };
-  openvdb::tools::foreach(grid->beginValueOn(), Divide{divisor.getConstAccessor()}, /*threaded=*/true,
-                          /*shareOp=*/false);
+  setActiveValues(*grid, [&](const openvdb::Coord& ijk, const ValueT& value) {
+    const float d = divisor.tree().getValue(ijk);
+    return d > 0 ? ValueT(clampedAlbedo(value * (1 / d))) : ValueT(1.0f);
+  });
   return grid;
 }
 

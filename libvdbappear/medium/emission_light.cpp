@@ -3,7 +3,7 @@
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
-#include <openvdb/tools/ValueTransformer.h>
+#include "libvdbappear/io/set_active_values.h"
 
 namespace vdbappear {
 
@@ -41,17 +41,13 @@ openvdb::Vec3SGrid::Ptr blackbodyLight(const openvdb::FloatGrid& temperature, co
   light->setTransform(temperature.transform().copy());
   light->tree().topologyUnion(temperature.tree());
   const BlackbodyTable table;
-  struct Fill {
-    openvdb::FloatGrid::ConstAccessor temperature;
-    const BlackbodyTable* table;
-    PrincipledBlackbody settings;
-    void operator()(const openvdb::Vec3SGrid::ValueOnIter& it) const {  // a tile's first voxel: the grids' tiles match
-      const Rgb e = principledBlackbodyEmission(temperature.getValue(it.getCoord()), settings, *table);
-      it.setValue(openvdb::Vec3s(float(e[0]), float(e[1]), float(e[2])));
-    }
+  auto lightOf = [&](float kelvin) {
+    const Rgb e = principledBlackbodyEmission(kelvin, settings, table);
+    return openvdb::Vec3s(float(e[0]), float(e[1]), float(e[2]));
   };
-  openvdb::tools::foreach(light->beginValueOn(), Fill{temperature.getConstAccessor(), &table, settings},
-                          /*threaded=*/true, /*shareOp=*/false);
+  setActiveValues(*light, [&](const openvdb::Coord& ijk, const openvdb::Vec3s&) {
+    return lightOf(temperature.tree().getValue(ijk));
+  });
   return light;
 }
 
