@@ -4,6 +4,7 @@
 
 #include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/downsample/streamed_downsample.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include <map>
+#include <optional>
 
 using namespace vdbappear;
 
@@ -25,6 +27,12 @@ constexpr const char* kExamples = R"(Examples:
   vdb_sggx_downsample --factor 4 twill.vdb twill_4x.vdb
   vdb_sggx_downsample --factor 2 in.vdb - | vdb_sggx_downsample --factor 2 - out.vdb
   vdb_sggx_downsample -f 8 --s-weight density -v --report report.json in.vdb out.vdb
+  vdb_sggx_downsample -f 2 --memory 2 -v twill1024.vdb twill512.vdb
+
+A file is read in slabs along x, each as wide as fits in --memory with the output (a quarter of the
+machine's memory by default, at most 4 GB): the result is the same, bit for bit, as reading the
+medium whole (--in-core), which stdin (-) and files that a grid mapping (--grid, --from) applies to
+are. See docs/scaling.md.
 
 Output voxel I holds input voxels F*I .. F*I+F-1 on each axis; the world region is preserved.
 density: mean over the F^3 children, empty ones counting 0 (Eq. 6). albedo: density-weighted mean
@@ -35,27 +43,54 @@ struct Options {
   GridMapping mapping;  // --grid
   std::string input, output, report;
   DownsampleOptions downsample;
-  bool verbose = false;
+  double memory_gb = 0;  // 0: defaultMemoryBudget()
+  bool in_core = false, verbose = false;
 };
+
+// The file read in slabs (docs/scaling.md), or nullopt where it must be read whole.
+std::optional<StreamedDownsample> streamed(const Options& options) {
+  if (options.in_core || options.input == "-") return std::nullopt;
+  const std::uint64_t budget = options.memory_gb > 0 ? std::uint64_t(options.memory_gb * 1e9) : defaultMemoryBudget();
+  std::string why_not;
+  std::optional<StreamedDownsample> result;
+  {
+    ProgressBar progress("downsampling slabs", 0);
+    result = downsampleNaiveStreamed(options.input, options.mapping, options.downsample, budget, &why_not, &progress);
+  }
+  if (!result && options.verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", kTool, options.input, why_not);
+  if (result) {
+    for (const std::string& note : result->notes) fmt::print(stderr, "{}: note: {}\n", kTool, note);
+    if (options.verbose)
+      fmt::print(stderr, "{}: read in {} slab{} along x (budget {:.3g} GB; the largest slab's grids held {:.3g} GB)\n",
+                 kTool, result->slabs, result->slabs == 1 ? "" : "s", budget / 1e9, result->largest_slab_bytes / 1e9);
+  }
+  return result;
+}
 
 int downsample(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
-  const double read_seconds = clock.lap();
-
   DownsampleResult result;
-  {
+  MediumSummary in;
+  double read_seconds = 0, downsample_seconds = 0;
+  if (auto slabs = streamed(options)) {  // reading and downsampling interleave: one time for both
+    result = std::move(slabs->result);
+    in = std::move(slabs->input);
+    downsample_seconds = clock.lap();
+  } else {
+    const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
+    read_seconds = clock.lap();
     ProgressBar progress("downsampling", 0);
     result = downsampleNaive(*fine, options.downsample, &progress);
+    in = summarize(*fine);
+    downsample_seconds = clock.lap();
   }
-  const double downsample_seconds = clock.lap();
   for (const auto& warning : result.warnings) fmt::print(stderr, "{}: warning: {}\n", kTool, warning);
 
   writeMedium(*result.medium, options.output, history);
   const double write_seconds = clock.lap();
 
-  const MediumSummary in = summarize(*fine), out = summarize(*result.medium);
+  const MediumSummary out = summarize(*result.medium);
   if (options.verbose) {
     fmt::print(stderr, "{}: {} -> {}: factor {}, {} -> {} active voxels ({:.1f}x fewer), {:.1f} -> {:.1f} MB in memory\n",
                kTool, options.input, options.output, options.downsample.factor, in.active_voxels, out.active_voxels,
@@ -100,6 +135,10 @@ int main(int argc, char** argv) {
                  "density (density-weighted mean)")
       ->transform(CLI::CheckedTransformer(weightings, CLI::ignore_case))
       ->default_str("count");
+  app.add_option("--memory", options.memory_gb,
+                 "GB: memory budget of reading in slabs (default: a quarter of the machine's memory, at most 4)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--in-core", options.in_core, "read the whole medium, not in slabs (the same result)");
   app.add_flag("-v,--verbose", options.verbose, "print voxel counts, memory and timings to stderr");
   app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
   tool::addGridMapping(app, options.mapping);

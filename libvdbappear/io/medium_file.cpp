@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/mapped_grids.h"
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_of_grids.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/io/vdb_read_error.h"
 #include "libvdbappear/io/vdb_writer.h"
@@ -30,15 +31,6 @@ struct VdbContents {
   openvdb::MetaMap::Ptr metadata;
 };
 
-// Every grid has a name, and no name appears twice.
-void checkGridNames(std::vector<std::string> names, const std::string& source) {
-  std::sort(names.begin(), names.end());
-  if (!names.empty() && names.front().empty()) throw MediumError(fmt::format("{}: a grid has no name", source));
-  const auto repeated = std::adjacent_find(names.begin(), names.end());
-  if (repeated != names.end())
-    throw MediumError(fmt::format("{}: grid '{}': appears more than once", source, *repeated));
-}
-
 // Grids are read in parallel, one io::File per grid (decompression dominates reading), and each
 // is checked on its own (validateGrid) as soon as it is read. Of several bad grids, the first by
 // name is reported.
@@ -46,20 +38,13 @@ VdbContents readVdbFile(const std::string& path) {
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
   if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
-  std::vector<std::string> names;
   VdbContents contents;
-  try {
+  std::vector<std::string> names;
+  {
     openvdb::io::File file(path);
-    file.open(/*delayLoad=*/false);
+    names = openGridNames(file, path, /*delay_load=*/false);
     contents.metadata = file.getMetadata();
-    for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
   }
-  std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
-  for (const auto& name : names)
-    base_names.push_back(openvdb::io::GridDescriptor::stripSuffix(openvdb::io::GridDescriptor::stringAsUniqueName(name)));
-  checkGridNames(base_names, path);
 
   contents.grids.resize(names.size());
   std::vector<std::exception_ptr> failures(names.size());
@@ -175,6 +160,34 @@ MediumPtr mappedMedium(VdbContents contents, const GridMapping& mapping, const s
 }
 
 }  // namespace
+
+void checkGridNames(std::vector<std::string> names, const std::string& source) {
+  std::sort(names.begin(), names.end());
+  if (!names.empty() && names.front().empty()) throw MediumError(fmt::format("{}: a grid has no name", source));
+  const auto repeated = std::adjacent_find(names.begin(), names.end());
+  if (repeated != names.end())
+    throw MediumError(fmt::format("{}: grid '{}': appears more than once", source, *repeated));
+}
+
+std::vector<std::string> openGridNames(openvdb::io::File& file, const std::string& path, bool delay_load) {
+  std::vector<std::string> names;
+  try {
+    file.open(delay_load);
+    for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
+  }
+  std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
+  for (const auto& name : names)
+    base_names.push_back(openvdb::io::GridDescriptor::stripSuffix(openvdb::io::GridDescriptor::stringAsUniqueName(name)));
+  checkGridNames(base_names, path);
+  return names;
+}
+
+MediumPtr mediumOfGrids(openvdb::GridPtrVec grids, openvdb::MetaMap::Ptr metadata, const GridMapping& mapping,
+                        const std::string& source) {
+  return mappedMedium({std::move(grids), std::move(metadata)}, mapping, source);
+}
 
 MediumPtr readMedium(const std::string& path, const GridMapping& mapping) {
   openvdb::initialize();

@@ -118,7 +118,7 @@ void checkFinite(const GridT& grid, const std::string& source) {
                                       [](const ValueT&) { return std::string("value is NaN or infinite"); }));
 }
 
-void checkDensity(const openvdb::FloatGrid& density, const std::string& source) {
+void checkDensity(const openvdb::FloatGrid& density, const std::string& source, bool whole) {
   if (density.background() != 0.0f)
     fail(source, density.getName(),
          fmt::format("background is {}, expected 0 (inactive voxels are empty space)", density.background()));
@@ -127,8 +127,7 @@ void checkDensity(const openvdb::FloatGrid& density, const std::string& source) 
                                            return std::isfinite(rho) ? fmt::format("negative density {}", rho)
                                                                      : std::string("density is NaN or infinite");
                                          }));
-  if (openvdb::tools::minMax(density.tree()).max() <= 0)
-    fail(source, density.getName(), "empty grid (no voxel with density > 0)");
+  if (whole && openvdb::tools::minMax(density.tree()).max() <= 0) failEmptyDensity(source);
 }
 
 bool albedoOk(const openvdb::Vec3s& a) {
@@ -296,12 +295,18 @@ void checkTileVoxels(const openvdb::GridBase& grid, const std::string& source) {
 
 }  // namespace
 
-void validateGrid(const openvdb::GridBase& grid, const std::string& source) {
+void failEmptyDensity(const std::string& source) {
+  fail(source, grid_names::kDensity, "empty grid (no voxel with density > 0)");
+}
+
+void validateGrid(const openvdb::GridBase& grid, const std::string& source) { validateGridPart(grid, source, true); }
+
+void validateGridPart(const openvdb::GridBase& grid, const std::string& source, bool whole) {
   checkValueType(grid, source);
   checkTileVoxels(grid, source);
   const std::string& name = grid.getName();
   if (name == grid_names::kDensity) {
-    checkDensity(static_cast<const openvdb::FloatGrid&>(grid), source);
+    checkDensity(static_cast<const openvdb::FloatGrid&>(grid), source, whole);
   } else if (name == grid_names::kAlbedo) {
     if (const auto* rgb = dynamic_cast<const openvdb::Vec3SGrid*>(&grid))
       checkValues(*rgb, source, valueRule(albedoOk, describeAlbedo));

@@ -23,6 +23,11 @@ struct Medium;
 // Safe to run as soon as the grid is read, in parallel with reading the others.
 void validateGrid(const openvdb::GridBase& grid, const std::string& source);
 
+// validateGrid of a part of a grid (a slab, io/medium_slabs.h): with `whole` false, an empty density
+// passes; the reader calls failEmptyDensity when no part held a voxel > 0.
+void validateGridPart(const openvdb::GridBase& grid, const std::string& source, bool whole);
+[[noreturn]] void failEmptyDensity(const std::string& source);
+
 // What holds across grids: a density grid exists; all grids share its transform, which is linear;
 // sggx_offdiag comes with sggx_diag; wherever density > 0, the values the tools will use there
 // (active or not in their own grids) are valid: albedo in [0,1], S symmetric positive definite,

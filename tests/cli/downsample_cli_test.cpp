@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -197,6 +198,28 @@ TEST(DownsampleCli, OutputDoesNotDependOnTheThreadCount) {
   EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
   EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
   EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+}
+
+// A file is read in slabs (docs/scaling.md §2): the same result as --in-core, in as many slabs as
+// a small --memory asks for; a budget too small for one slab is one error line, nothing written.
+TEST(DownsampleCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
+  TempDir dir;
+  const std::string in = makeRandomFile(dir, 64);
+  const std::string slabs = dir.path("slabs.vdb"), whole = dir.path("whole.vdb"), none = dir.path("none.vdb");
+  const auto r = runCommand(kDownsample + " -v -f 2 --memory 0.02 " + quote(in) + " " + quote(slabs));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("read in 4 slabs along x"), std::string::npos) << r.err;
+  ASSERT_EQ(runCommand(kDownsample + " -f 2 --in-core " + quote(in) + " " + quote(whole)).status, 0);
+  const MediumPtr a = readMedium(whole), b = readMedium(slabs);
+  EXPECT_TRUE(test::gridsMatch(*a->density, *b->density, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+  const auto small = runCommand(kDownsample + " -f 2 --memory 0.0001 " + quote(in) + " " + quote(none));
+  EXPECT_EQ(small.status, 1);
+  EXPECT_NE(small.err.find(in + ": a memory budget of 0.0001 GB is too small"), std::string::npos) << small.err;
+  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_FALSE(exists(none));
 }
 
 TEST(DownsampleCli, ReportAndVerboseSummaryCountVoxels) {

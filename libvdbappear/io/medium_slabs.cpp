@@ -1,0 +1,206 @@
+#include "libvdbappear/io/medium_slabs.h"
+
+#include "libvdbappear/io/grid_presets.h"
+#include "libvdbappear/io/mapped_grids.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_of_grids.h"
+#include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/vdb_read_error.h"
+#include "libvdbappear/math/block_index.h"
+#include "libvdbappear/util/error.h"
+
+#include <fmt/format.h>
+#include <openvdb/tools/Count.h>
+#include <openvdb/util/logging.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <tuple>
+
+namespace vdbappear {
+
+namespace {
+
+// Grids indexed by voxel are cut into slabs; the others (the phase table, the exemplar grids
+// indexed by block) are copied whole into every slab.
+bool isVoxelIndexed(const std::string& name) { return name != grid_names::kPhaseTable && !isBlockIndexedGridName(name); }
+
+// The internal nodes of a tree (5-4-3): a slab's leaves bring theirs along.
+template <typename TreeT>
+constexpr std::uint64_t kNode2Bytes = sizeof(typename TreeT::RootNodeType::ChildNodeType);
+template <typename TreeT>
+constexpr std::uint64_t kNode1Bytes = sizeof(typename TreeT::RootNodeType::ChildNodeType::ChildNodeType);
+
+template <typename GridT>
+std::uint64_t leafBytesOf(const GridT&) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  return sizeof(LeafT) + LeafT::SIZE * sizeof(typename GridT::ValueType);
+}
+
+// The grid's part in [x0, x1): its leaves there moved out of `grid` (still on the file), its tiles
+// cut to the slab.
+template <typename GridT>
+typename GridT::Ptr takeSlab(GridT& grid, const SlabRange& range) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  auto slab = GridT::create(grid.background());
+  for (auto meta = grid.beginMeta(); meta != grid.endMeta(); ++meta) slab->insertMeta(meta->first, *meta->second);
+  slab->setTransform(grid.transform().copy());
+  std::vector<openvdb::Coord> origins;
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
+    if (leaf->origin().x() >= range.first && leaf->origin().x() < range.second) origins.push_back(leaf->origin());
+  for (const auto& origin : origins)
+    slab->tree().addLeaf(grid.tree().root().template stealNode<LeafT>(origin, grid.background(), false));
+  auto tile = grid.tree().cbeginValueAll();
+  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile) {
+    if (!tile.isValueOn() && *tile == grid.background()) continue;
+    openvdb::CoordBBox box;
+    tile.getBoundingBox(box);
+    box.min().x() = std::max(box.min().x(), range.first);
+    box.max().x() = std::min(box.max().x(), range.second - 1);
+    if (box.min().x() <= box.max().x()) slab->tree().fill(box, *tile, tile.isValueOn());
+  }
+  return slab;
+}
+
+// Every leaf of the slab read from the file now, so that a truncated file fails here, naming the grid.
+template <typename GridT>
+void loadLeaves(GridT& grid, const std::string& path) {
+  try {
+    for (auto leaf = grid.tree().beginLeaf(); leaf; ++leaf) leaf->buffer().data();
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, grid.getName(), vdbReadError(e)));
+  }
+}
+
+// The value types a slab can hold (the contract's, and the usual foreign ones); a file with a grid of
+// another type is read whole.
+bool slabType(const openvdb::GridBase& grid) {
+  return grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::Vec3SGrid>() || grid.isType<openvdb::Int32Grid>() ||
+         grid.isType<openvdb::DoubleGrid>() || grid.isType<openvdb::Vec3DGrid>() || grid.isType<openvdb::Int64Grid>();
+}
+
+template <typename Op>
+void dispatch(openvdb::GridBase& grid, Op op) {
+  if (auto* f = dynamic_cast<openvdb::FloatGrid*>(&grid)) return op(*f);
+  if (auto* v = dynamic_cast<openvdb::Vec3SGrid*>(&grid)) return op(*v);
+  if (auto* i = dynamic_cast<openvdb::Int32Grid*>(&grid)) return op(*i);
+  if (auto* d = dynamic_cast<openvdb::DoubleGrid*>(&grid)) return op(*d);
+  if (auto* v = dynamic_cast<openvdb::Vec3DGrid*>(&grid)) return op(*v);
+  if (auto* l = dynamic_cast<openvdb::Int64Grid*>(&grid)) return op(*l);
+  throw std::logic_error("dispatch: a grid type slabType does not allow");
+}
+
+}  // namespace
+
+MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : path_(path) {
+  openvdb::initialize();
+  // A damaged file fails the delayed open with a MediumError below; OpenVDB's own error log of it
+  // (log4cplus, not configured here) would add a line that says only that no logger is configured.
+  openvdb::logging::setLevel(openvdb::logging::Level::Fatal);
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
+  if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
+  openvdb::io::File file(path);
+  const std::vector<std::string> names = openGridNames(file, path, /*delay_load=*/true);
+  metadata_ = file.getMetadata();
+  for (const auto& name : names) {
+    try {
+      grids_.push_back(file.readGrid(name));
+    } catch (const std::exception& e) {
+      throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, name, vdbReadError(e)));
+    }
+  }
+  // A mapping makes grids from whole source grids: such a file is read whole (readMedium).
+  const auto odd = std::find_if(grids_.begin(), grids_.end(), [](const auto& g) { return !slabType(*g); });
+  if (odd != grids_.end()) {
+    why_not_ = fmt::format("grid '{}' holds {} values", (*odd)->getName(), (*odd)->valueType());
+  } else if (!mapping.rules.empty()) {
+    why_not_ = "--grid rules apply to it";
+  } else if (!presetRules(grids_, mapping.preset, {}).empty()) {
+    why_not_ = "a preset maps its grids (--from none reads them as they are)";
+  } else {
+    notes_ = applyGridMapping(grids_, mapping, path).notes;  // names and topology only: nothing is read
+  }
+}
+
+MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes) const {
+  constexpr std::uint64_t kOnFileLeafBytes = 96;  // an unread leaf: its node, masks and file reference
+  std::map<int, std::uint64_t> band_bytes;         // band index -> bytes of its leaves, every voxel grid
+  Plan plan;
+  for (const auto& base : grids_) {
+    if (!isVoxelIndexed(base->getName())) continue;
+    dispatch(*base, [&](auto& grid) {
+      using TreeT = std::decay_t<decltype(grid.tree())>;
+      const std::uint64_t bytes = leafBytesOf(grid);
+      std::set<openvdb::Coord> blocks;              // the output's leaves
+      std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
+      for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        const int b = floorDiv(leaf->origin().x(), band);
+        for (const int log2 : {7, 12})  // the two internal levels: 128^3 and 4096^3 voxels
+          if (nodes.insert({b, log2, blockOf(leaf->origin(), openvdb::Coord(1 << log2))}).second)
+            band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
+        band_bytes[b] += bytes;
+        plan.leaf_bytes += bytes;
+        plan.resident_bytes += kOnFileLeafBytes;
+        blocks.insert(blockOf(leaf->origin(), openvdb::Coord(band)));
+      }
+      auto tile = grid.tree().cbeginValueOn();
+      tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
+      for (; tile; ++tile) {  // a tile's part in a band, as leaves
+        openvdb::CoordBBox box;
+        tile.getBoundingBox(box);
+        const std::uint64_t leaves_per_band = (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) *
+                                              std::uint64_t(band / 8 + 1);
+        for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
+        for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c) blocks.insert(*c);
+      }
+      plan.resident_bytes += blocks.size() * bytes;
+    });
+  }
+  const std::uint64_t slab_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
+  std::uint64_t used = 0;
+  for (const auto& [index, bytes] : band_bytes) {
+    plan.largest_band_bytes = std::max(plan.largest_band_bytes, bytes);
+    const int x0 = index * band, x1 = x0 + band;
+    if (!plan.slabs.empty() && plan.slabs.back().second == x0 && used + bytes <= slab_bytes) {
+      plan.slabs.back().second = x1;
+      used += bytes;
+    } else {
+      plan.slabs.push_back({x0, x1});
+      used = bytes;
+    }
+  }
+  if (plan.largest_band_bytes > slab_bytes) plan.slabs.clear();
+  return plan;
+}
+
+MediumPtr MediumSlabs::slab(const SlabRange& range) {
+  openvdb::GridPtrVec grids;
+  for (const auto& base : grids_) {
+    if (!isVoxelIndexed(base->getName())) {
+      grids.push_back(base->deepCopyGrid());
+      continue;
+    }
+    dispatch(*base, [&](auto& grid) {
+      auto part = takeSlab(grid, range);
+      loadLeaves(*part, path_);
+      grids.push_back(part);
+    });
+  }
+  for (const auto& grid : grids) validateGridPart(*grid, path_, /*whole=*/false);
+  for (const auto& grid : grids)
+    if (grid->getName() == grid_names::kDensity && grid->activeVoxelCount() > 0)
+      saw_density_ = saw_density_ || openvdb::tools::minMax(openvdb::gridPtrCast<openvdb::FloatGrid>(grid)->tree()).max() > 0;
+  GridMapping none;
+  none.preset = GridPreset::kNone;
+  return mediumOfGrids(std::move(grids), metadata_, none, path_);
+}
+
+void MediumSlabs::finish() const {
+  if (!saw_density_) failEmptyDensity(path_);
+}
+
+}  // namespace vdbappear

@@ -1,0 +1,65 @@
+#pragma once
+// A medium file read slab by slab along x, in memory bounded by a budget (docs/scaling.md §2): the
+// file is opened with OpenVDB's delayed loading (the trees' topology in memory, leaf values read
+// from the file when first used), and each slab's leaves are moved out of the file's trees into a
+// medium of their own, validated and handed over, then freed with it. For reductions whose output
+// voxel needs only its own children (naive downsampling): slabs are aligned to whole coarse leaves.
+// Internal header: includes OpenVDB.
+
+#include "libvdbappear/io/grid_mapping.h"
+#include "libvdbappear/io/medium_file.h"
+
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vdbappear {
+
+// [x0, x1): a slab's fine voxel columns.
+using SlabRange = std::pair<int, int>;
+
+class MediumSlabs {
+ public:
+  // Opens `path` (MediumError for a missing or unreadable file, as readMedium gives).
+  MediumSlabs(const std::string& path, const GridMapping& mapping);
+
+  // Why the file must be read whole instead (a grid mapping applies to it), or nullopt.
+  const std::optional<std::string>& whyNotStreamed() const { return why_not_; }
+
+  // Slabs of whole bands `band` voxels wide (band = 8 F for factor F, aligned to x = 0), covering
+  // every active value in increasing x, each as wide as fits in `memory_bytes` less what stays in
+  // memory throughout: the trees' topology (on the file's side) and the output (a leaf per band-wide
+  // block that holds a leaf, per voxel grid). No slabs if one band alone does not fit.
+  struct Plan {
+    std::vector<SlabRange> slabs;
+    std::uint64_t largest_band_bytes = 0;  // a band's leaves, every voxel grid
+    std::uint64_t resident_bytes = 0;      // topology and output
+    std::uint64_t leaf_bytes = 0;          // every leaf of every voxel grid: what a whole read holds
+  };
+  Plan plan(int band, std::uint64_t memory_bytes) const;
+
+  // The slab's medium: its leaves taken from the file's trees (so call each range once, in any
+  // order), active tiles cut to it, the grids that are not indexed by voxel copied whole; each grid
+  // validated as readMedium validates a grid (an empty density excepted), then across grids.
+  MediumPtr slab(const SlabRange& range);
+
+  // The whole-medium checks that no slab can make: some voxel had density > 0. Call after the last slab.
+  void finish() const;
+
+  const std::vector<std::string>& notes() const { return notes_; }
+
+ private:
+  std::string path_;
+  openvdb::MetaMap::Ptr metadata_;
+  openvdb::GridPtrVec grids_;  // topology, values on the file (delayed loading)
+  std::optional<std::string> why_not_;
+  std::vector<std::string> notes_;
+  bool saw_density_ = false;
+};
+
+}  // namespace vdbappear

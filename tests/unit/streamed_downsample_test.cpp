@@ -1,0 +1,176 @@
+// Naive downsampling slab by slab (downsample/streamed_downsample.h, docs/scaling.md §2) against
+// the whole medium read at once: the same grids, bit for bit, on media of every kind read in as many
+// slabs as the smallest budget allows; and the reader's refusals.
+#include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/downsample/streamed_downsample.h"
+#include "libvdbappear/io/emission_convention.h"
+#include "libvdbappear/io/medium.h"
+#include "libvdbappear/io/medium_slabs.h"
+#include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/util/error.h"
+
+#include "support/medium_testing.h"
+#include "support/render_testing.h"
+#include "support/temp_dir.h"
+#include "support/test_random.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace vdbappear {
+namespace {
+
+using openvdb::Coord;
+
+// The same nodes, masks and values, active or not: what the file would hold.
+template <typename GridT>
+::testing::AssertionResult identicalTrees(const GridT& expected, const GridT& actual) {
+  using ValueT = typename GridT::ValueType;
+  if (expected.tree().leafCount() != actual.tree().leafCount())
+    return ::testing::AssertionFailure() << expected.getName() << ": " << expected.tree().leafCount() << " leaves vs "
+                                         << actual.tree().leafCount();
+  if (!(expected.background() == actual.background())) return ::testing::AssertionFailure() << "backgrounds differ";
+  for (auto leaf = expected.tree().cbeginLeaf(); leaf; ++leaf) {
+    const auto* other = actual.tree().probeConstLeaf(leaf->origin());
+    if (!other) return ::testing::AssertionFailure() << expected.getName() << ": no leaf at " << leaf->origin();
+    if (leaf->getValueMask() != other->getValueMask())
+      return ::testing::AssertionFailure() << expected.getName() << ": masks differ at " << leaf->origin();
+    for (openvdb::Index n = 0; n < leaf->SIZE; ++n)
+      if (std::memcmp(&leaf->buffer().data()[n], &other->buffer().data()[n], sizeof(ValueT)) != 0)
+        return ::testing::AssertionFailure() << expected.getName() << ": values differ at " << leaf->offsetToGlobalCoord(n)
+                                             << " (" << (leaf->isValueOn(n) ? "active" : "inactive") << "): "
+                                             << leaf->getValue(n) << " vs " << other->getValue(n);
+  }
+  auto tile = expected.tree().cbeginValueAll();
+  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile)
+    if (!(actual.tree().getValue(tile.getCoord()) == *tile) || actual.tree().isValueOn(tile.getCoord()) != tile.isValueOn())
+      return ::testing::AssertionFailure() << expected.getName() << ": tiles differ at " << tile.getCoord();
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult identicalMedia(const Medium& expected, const Medium& actual) {
+  const openvdb::GridCPtrVec a = expected.grids(), b = actual.grids();
+  if (a.size() != b.size()) return ::testing::AssertionFailure() << a.size() << " grids vs " << b.size();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i]->getName() != b[i]->getName() || a[i]->type() != b[i]->type())
+      return ::testing::AssertionFailure() << "grid " << i << ": " << a[i]->getName() << " vs " << b[i]->getName();
+    if (a[i]->transform() != b[i]->transform()) return ::testing::AssertionFailure() << a[i]->getName() << ": transforms differ";
+    ::testing::AssertionResult same = ::testing::AssertionSuccess();
+    if (auto f = openvdb::gridConstPtrCast<openvdb::FloatGrid>(a[i]))
+      same = identicalTrees(*f, *openvdb::gridConstPtrCast<openvdb::FloatGrid>(b[i]));
+    else if (auto v = openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(a[i]))
+      same = identicalTrees(*v, *openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(b[i]));
+    else if (auto n = openvdb::gridConstPtrCast<openvdb::Int32Grid>(a[i]))
+      same = identicalTrees(*n, *openvdb::gridConstPtrCast<openvdb::Int32Grid>(b[i]));
+    if (!same) return same;
+  }
+  if (expected.metadata.str() != actual.metadata.str()) return ::testing::AssertionFailure() << "file metadata differ";
+  return ::testing::AssertionSuccess();
+}
+
+// The smallest budget that reads `path`: what stays in memory and one band.
+std::uint64_t smallestBudget(const std::string& path, int factor) {
+  const MediumSlabs::Plan plan = MediumSlabs(path, {}).plan(8 * factor, ~std::uint64_t(0));
+  return plan.resident_bytes + plan.largest_band_bytes;
+}
+
+// Downsampled whole and in the most slabs the budget allows: identical; returns the slab count.
+int expectStreamedEqualsInCore(const std::string& path, int factor, SggxWeighting weighting = SggxWeighting::Count) {
+  const DownsampleOptions options{factor, weighting};
+  const DownsampleResult whole = downsampleNaive(*readMedium(path), options);
+  std::string why_not;
+  const auto streamed = downsampleNaiveStreamed(path, {}, options, smallestBudget(path, factor), &why_not);
+  EXPECT_TRUE(streamed) << path << ": " << why_not;
+  if (!streamed) return 0;
+  EXPECT_TRUE(identicalMedia(*whole.medium, *streamed->result.medium)) << path << ", factor " << factor;
+  EXPECT_EQ(whole.warnings, streamed->result.warnings) << path;
+  return streamed->slabs;
+}
+
+TEST(StreamedDownsample, EveryGoldenMediumIsDownsampledBitForBitInSlabs) {
+  for (const char* name : {"cube8", "slab8", "sphere8", "cloud16", "twill24", "velvet16", "hairy-ball16", "exemplars8"})
+    for (const int factor : {2, 3}) {
+      const std::string path = std::string(GOLDEN_DIR) + "/" + name + ".vdb";
+      expectStreamedEqualsInCore(path, factor);
+      expectStreamedEqualsInCore(path, factor, SggxWeighting::Density);
+    }
+}
+
+// Negative and odd index ranges, hg_g, many slabs; emission and blackbody light, made into the
+// coarse emission slab by slab; a medium smaller than one slab.
+TEST(StreamedDownsample, NegativeRangesEmissionAndOneSlab) {
+  test::TempDir dir;
+  RandomMediumParams params;
+  params.extent = 53;  // -26 .. 26: odd, across zero
+  params.hg_g = true;
+  params.seed = 3;
+  MediumPtr medium = makeRandomMedium(params);
+  auto emission = test::namedGridLike<openvdb::Vec3SGrid>(*medium, grid_names::kEmission, openvdb::Vec3s(0.0f));
+  auto temperature = test::namedGridLike<openvdb::FloatGrid>(*medium, grid_names::kBlackbodyTemperature, 0.0f);
+  test::TestRandom random(4);
+  for (auto v = openvdb::CoordBBox(Coord(-30), Coord(29)).begin(); v; ++v) {
+    if (random.uniform() < 0.05) emission->tree().setValueOn(*v, openvdb::Vec3s(float(random.uniform()), 0.5f, 0.25f));
+    if (random.uniform() < 0.05) temperature->tree().setValueOn(*v, float(3000 * random.uniform()));
+  }
+  medium->other_grids = {emission, temperature};
+  const std::string path = dir.path("random.vdb");
+  writeMedium(*medium, path, "test");
+  EXPECT_GE(expectStreamedEqualsInCore(path, 2), 4) << "many slabs";
+  EXPECT_GE(expectStreamedEqualsInCore(path, 5), 2);
+  EXPECT_EQ(expectStreamedEqualsInCore(std::string(GOLDEN_DIR) + "/cube8.vdb", 8), 1) << "smaller than one slab";
+}
+
+// Refusals, as the whole read gives them: a budget too small for one slab names what it needs; an
+// empty density; a truncated file names the grid; a file a preset maps is left to the whole read.
+TEST(StreamedDownsample, RefusesWhatTheWholeReadRefusesAndNamesTheBudget) {
+  const std::string twill = std::string(GOLDEN_DIR) + "/twill24.vdb";
+  try {
+    downsampleNaiveStreamed(twill, {}, {2, SggxWeighting::Count}, 1000, nullptr);
+    ADD_FAILURE() << "a budget of 1000 bytes was accepted";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("a memory budget of 1e-06 GB is too small: one slab of 16 voxels along x needs"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("(--memory "), std::string::npos) << e.what();
+  }
+
+  test::TempDir dir;
+  auto empty = test::cube(4, 1.0, 0.0f, 0.5f);
+  test::writeRawVdb(dir.path("empty.vdb"), test::copyGrids(*empty));
+  EXPECT_EQ(test::readMediumError(dir.path("empty.vdb")), dir.path("empty.vdb") + ": grid 'density': empty grid (no voxel with density > 0)");
+  try {
+    downsampleNaiveStreamed(dir.path("empty.vdb"), {}, {2, SggxWeighting::Count}, 1u << 30, nullptr);
+    ADD_FAILURE() << "an empty medium was accepted";
+  } catch (const MediumError& e) {
+    EXPECT_EQ(std::string(e.what()), test::readMediumError(dir.path("empty.vdb")));
+  }
+
+  // Truncated anywhere: refused naming the file, as the whole read refuses it, never a result.
+  for (const double keep : {0.25, 0.5, 0.75, 0.9, 0.99}) {
+    const std::string cut = dir.path("cut.vdb");
+    std::filesystem::remove(cut);
+    std::filesystem::copy_file(twill, cut);
+    std::filesystem::resize_file(cut, std::uintmax_t(double(std::filesystem::file_size(twill)) * keep));
+    try {
+      downsampleNaiveStreamed(cut, {}, {2, SggxWeighting::Count}, 1u << 30, nullptr);
+      ADD_FAILURE() << "a file cut at " << keep << " was accepted";
+    } catch (const MediumError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(cut + ": ", 0), 0u) << e.what();
+    }
+  }
+
+  auto grey = test::cube(4, 1.0, 1.0f, 0.5f);
+  auto colour = test::namedGridLike<openvdb::Vec3SGrid>(*grey, "Cd", openvdb::Vec3s(0.0f));
+  colour->tree().setValueOn(Coord(1, 1, 1), openvdb::Vec3s(0.5f));
+  test::writeRawVdb(dir.path("houdini.vdb"), {grey->density, colour});
+  std::string why_not;
+  EXPECT_FALSE(downsampleNaiveStreamed(dir.path("houdini.vdb"), {}, {2, SggxWeighting::Count}, 1u << 30, &why_not));
+  EXPECT_EQ(why_not, "a preset maps its grids (--from none reads them as they are)");
+}
+
+}  // namespace
+}  // namespace vdbappear
