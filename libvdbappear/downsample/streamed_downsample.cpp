@@ -17,6 +17,9 @@ namespace vdbappear {
 namespace {
 
 constexpr double kGB = 1e9;
+// Slabs of at most this much where the budget allows more: smaller slabs cost no time (a 512^3
+// twill: 4.0 s in 6 slabs of 0.49 GB, 4.4 s in 32 of 0.1 GB, 5.3 s in one of 2.7 GB).
+constexpr std::uint64_t kSlabTargetBytes = std::uint64_t(0.5 * kGB);
 
 // x rounded up to three significant digits: a budget that is enough.
 double roundedUp(double x) {
@@ -84,7 +87,7 @@ std::optional<StreamedDownsample> downsampleNaiveStreamed(const std::string& pat
     return std::nullopt;
   }
   const int band = 8 * options.factor;  // fine voxels per coarse leaf
-  const MediumSlabs::Plan plan = slabs.plan(band, memory_bytes);
+  const MediumSlabs::Plan plan = slabs.plan(band, memory_bytes, kSlabTargetBytes);
   if (plan.slabs.empty() && plan.largest_band_bytes > 0)
     throw MediumError(fmt::format("{}: a memory budget of {:.3g} GB is too small: one slab of {} voxels along x needs "
                                   "{:.3g} GB with what stays in memory (--memory {:.3g} or more)",

@@ -1,5 +1,5 @@
 #pragma once
-// Naive downsampling of a medium file slab by slab (docs/scaling.md §2): the result of
+// Naive downsampling of a medium file slab by slab (docs/scaling.md §5): the result of
 // downsampleNaive(readMedium(path)), bit for bit, in memory bounded by a budget, whatever the
 // medium's size. Light header: no OpenVDB.
 

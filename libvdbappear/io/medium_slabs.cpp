@@ -13,7 +13,13 @@
 #include <openvdb/tools/Count.h>
 #include <openvdb/util/logging.h>
 
+#include <openvdb/tree/LeafManager.h>
+#include <sys/mman.h>
+
 #include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+#include <fstream>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -65,13 +71,32 @@ typename GridT::Ptr takeSlab(GridT& grid, const SlabRange& range) {
   return slab;
 }
 
-// Every leaf of the slab read from the file now, so that a truncated file fails here, naming the grid.
+// Every leaf of the slab read from the file now, in parallel (decompression dominates), so that a
+// damaged file fails here, naming the grid.
 template <typename GridT>
 void loadLeaves(GridT& grid, const std::string& path) {
   try {
-    for (auto leaf = grid.tree().beginLeaf(); leaf; ++leaf) leaf->buffer().data();
+    openvdb::tree::LeafManager<typename GridT::TreeType> leaves(grid.tree());
+    leaves.foreach([](typename GridT::TreeType::LeafNodeType& leaf, std::size_t) { leaf.buffer().data(); });
   } catch (const std::exception& e) {
     throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, grid.getName(), vdbReadError(e)));
+  }
+}
+
+// Gives back the pages of the file's memory mapping that this process has touched (the slabs read
+// so far): they count in its resident memory until then. Leaves not yet read fault theirs in again.
+void releaseMappedPages(const std::string& path) {
+  std::error_code error;
+  const std::string file = std::filesystem::canonical(path, error).string();
+  if (error) return;
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  while (std::getline(maps, line)) {
+    const std::size_t at = line.find('/');
+    if (at == std::string::npos || line.compare(at, std::string::npos, file) != 0) continue;
+    std::uintptr_t begin = 0, end = 0;
+    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR, &begin, &end) == 2 && end > begin)
+      madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
   }
 }
 
@@ -104,6 +129,7 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
   if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
   openvdb::io::File file(path);
+  file.setCopyMaxBytes(0);  // map the file itself, not a private copy (the input is never modified)
   const std::vector<std::string> names = openGridNames(file, path, /*delay_load=*/true);
   metadata_ = file.getMetadata();
   for (const auto& name : names) {
@@ -126,7 +152,7 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
   }
 }
 
-MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes) const {
+MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes) const {
   constexpr std::uint64_t kOnFileLeafBytes = 96;  // an unread leaf: its node, masks and file reference
   std::map<int, std::uint64_t> band_bytes;         // band index -> bytes of its leaves, every voxel grid
   Plan plan;
@@ -160,10 +186,12 @@ MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes) const 
       plan.resident_bytes += blocks.size() * bytes;
     });
   }
-  const std::uint64_t slab_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
+  for (const auto& entry : band_bytes) plan.largest_band_bytes = std::max(plan.largest_band_bytes, entry.second);
+  const std::uint64_t free_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
+  if (plan.largest_band_bytes > free_bytes) return plan;  // no slabs: one band does not fit
+  const std::uint64_t slab_bytes = std::min(free_bytes, std::max(slab_target_bytes, plan.largest_band_bytes));
   std::uint64_t used = 0;
   for (const auto& [index, bytes] : band_bytes) {
-    plan.largest_band_bytes = std::max(plan.largest_band_bytes, bytes);
     const int x0 = index * band, x1 = x0 + band;
     if (!plan.slabs.empty() && plan.slabs.back().second == x0 && used + bytes <= slab_bytes) {
       plan.slabs.back().second = x1;
@@ -173,11 +201,11 @@ MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes) const 
       used = bytes;
     }
   }
-  if (plan.largest_band_bytes > slab_bytes) plan.slabs.clear();
   return plan;
 }
 
 MediumPtr MediumSlabs::slab(const SlabRange& range) {
+  releaseMappedPages(path_);  // the slabs before this one are read and freed
   openvdb::GridPtrVec grids;
   for (const auto& base : grids_) {
     if (!isVoxelIndexed(base->getName())) {

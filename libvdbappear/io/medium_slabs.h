@@ -1,5 +1,5 @@
 #pragma once
-// A medium file read slab by slab along x, in memory bounded by a budget (docs/scaling.md §2): the
+// A medium file read slab by slab along x, in memory bounded by a budget (docs/scaling.md §5): the
 // file is opened with OpenVDB's delayed loading (the trees' topology in memory, leaf values read
 // from the file when first used), and each slab's leaves are moved out of the file's trees into a
 // medium of their own, validated and handed over, then freed with it. For reductions whose output
@@ -41,7 +41,8 @@ class MediumSlabs {
     std::uint64_t resident_bytes = 0;      // topology and output
     std::uint64_t leaf_bytes = 0;          // every leaf of every voxel grid: what a whole read holds
   };
-  Plan plan(int band, std::uint64_t memory_bytes) const;
+  // Slabs hold at most `slab_target_bytes` where the budget allows more: small slabs cost no time.
+  Plan plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes = ~std::uint64_t(0)) const;
 
   // The slab's medium: its leaves taken from the file's trees (so call each range once, in any
   // order), active tiles cut to it, the grids that are not indexed by voxel copied whole; each grid

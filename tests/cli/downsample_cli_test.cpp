@@ -200,7 +200,7 @@ TEST(DownsampleCli, OutputDoesNotDependOnTheThreadCount) {
   EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
 }
 
-// A file is read in slabs (docs/scaling.md §2): the same result as --in-core, in as many slabs as
+// A file is read in slabs (docs/scaling.md §5): the same result as --in-core, in as many slabs as
 // a small --memory asks for; a budget too small for one slab is one error line, nothing written.
 TEST(DownsampleCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
   TempDir dir;

@@ -1,4 +1,4 @@
-// Naive downsampling slab by slab (downsample/streamed_downsample.h, docs/scaling.md §2) against
+// Naive downsampling slab by slab (downsample/streamed_downsample.h, docs/scaling.md §5) against
 // the whole medium read at once: the same grids, bit for bit, on media of every kind read in as many
 // slabs as the smallest budget allows; and the reader's refusals.
 #include "libvdbappear/downsample/naive_downsample.h"
