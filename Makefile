@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 CMAKE_FLAGS ?=
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-training bench-mpi lobes similarity lightgrid optimize modularity subsurface displacement interop clean
+.PHONY: all deps configure build install test sanitize-build test-sanitize fuzz demo bench bench-render bench-scale bench-training bench-mpi lobes similarity lightgrid optimize modularity subsurface displacement interop clean
 
 all: build
 
@@ -56,6 +56,11 @@ demo: build
 
 bench: build
 	@scripts/bench_downsample.py --build $(BUILD_DIR)
+
+# Media larger than memory (issue 28): time and peak memory against active voxels at 256^3, 512^3 and
+# 1024^3 (the whole read of 1024^3 takes 21.5 GB), with OpenVDB's vdb_lod as the peer.
+bench-scale: build
+	@scripts/bench_scale.py --build $(BUILD_DIR)
 
 # vdb_render against Blender Cycles (installs Debian's blender for itself when missing).
 bench-render: build
