@@ -187,17 +187,22 @@ TEST(DownsampleCli, PipedFactorTwoTwiceEqualsFactorFour) {
   EXPECT_NE(history.find("vdb_sggx_downsample --factor 2 - " + chained), std::string::npos) << history;
 }
 
+// The two files' density, albedo and SGGX grids: the same active voxels and values, exactly.
+void expectSameBaseGrids(const std::string& first, const std::string& second) {
+  const MediumPtr a = readMedium(first), b = readMedium(second);
+  EXPECT_TRUE(test::gridsMatch(*a->density, *b->density, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
+  EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+}
+
 TEST(DownsampleCli, OutputDoesNotDependOnTheThreadCount) {
   TempDir dir;
   const std::string in = makeRandomFile(dir, 48);
   const std::string one = dir.path("one.vdb"), two = dir.path("two.vdb");
   ASSERT_EQ(runCommand(kDownsample + " -f 3 --s-weight density -j 1 " + quote(in) + " " + quote(one)).status, 0);
   ASSERT_EQ(runCommand(kDownsample + " -f 3 --s-weight density -j 2 " + quote(in) + " " + quote(two)).status, 0);
-  const MediumPtr a = readMedium(one), b = readMedium(two);
-  EXPECT_TRUE(test::gridsMatch(*a->density, *b->density, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+  expectSameBaseGrids(one, two);
 }
 
 // A file is read in slabs (docs/scaling.md §5): the same result as --in-core, in as many slabs as
@@ -210,11 +215,7 @@ TEST(DownsampleCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("read in 4 slabs along x"), std::string::npos) << r.err;
   ASSERT_EQ(runCommand(kDownsample + " -f 2 --in-core " + quote(in) + " " + quote(whole)).status, 0);
-  const MediumPtr a = readMedium(whole), b = readMedium(slabs);
-  EXPECT_TRUE(test::gridsMatch(*a->density, *b->density, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->albedo, *b->albedo, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->sggx_diag, *b->sggx_diag, 0));
-  EXPECT_TRUE(test::gridsMatch(*a->sggx_offdiag, *b->sggx_offdiag, 0));
+  expectSameBaseGrids(whole, slabs);
   const auto small = runCommand(kDownsample + " -f 2 --memory 0.0001 " + quote(in) + " " + quote(none));
   EXPECT_EQ(small.status, 1);
   EXPECT_NE(small.err.find(in + ": a memory budget of 0.0001 GB is too small"), std::string::npos) << small.err;
