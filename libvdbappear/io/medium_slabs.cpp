@@ -45,20 +45,36 @@ std::uint64_t leafBytesOf(const GridT&) {
   return sizeof(LeafT) + LeafT::SIZE * sizeof(typename GridT::ValueType);
 }
 
+// The grid's leaf origins sorted by x, and its tiles as a grid of their own (null if none).
+template <typename GridT>
+void findPieces(const GridT& grid, std::vector<openvdb::Coord>& leaves, openvdb::GridBase::Ptr& tiles) {
+  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf->origin());
+  std::stable_sort(leaves.begin(), leaves.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
+  typename GridT::Ptr found;
+  auto tile = grid.tree().cbeginValueAll();
+  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
+  for (; tile; ++tile) {
+    if (!tile.isValueOn() && *tile == grid.background()) continue;
+    if (!found) found = GridT::create(grid.background());
+    found->tree().fill(tile.getBoundingBox(), *tile, tile.isValueOn());
+  }
+  tiles = found;
+}
+
 // The grid's part in [x0, x1): its leaves there moved out of `grid` (still on the file), its tiles
 // cut to the slab.
 template <typename GridT>
-typename GridT::Ptr takeSlab(GridT& grid, const SlabRange& range) {
+typename GridT::Ptr takeSlab(GridT& grid, const std::vector<openvdb::Coord>& leaves, const GridT* tiles,
+                             const SlabRange& range) {
   using LeafT = typename GridT::TreeType::LeafNodeType;
   auto slab = GridT::create(grid.background());
   for (auto meta = grid.beginMeta(); meta != grid.endMeta(); ++meta) slab->insertMeta(meta->first, *meta->second);
   slab->setTransform(grid.transform().copy());
-  std::vector<openvdb::Coord> origins;
-  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
-    if (leaf->origin().x() >= range.first && leaf->origin().x() < range.second) origins.push_back(leaf->origin());
-  for (const auto& origin : origins)
-    slab->tree().addLeaf(grid.tree().root().template stealNode<LeafT>(origin, grid.background(), false));
-  auto tile = grid.tree().cbeginValueAll();
+  auto first = std::lower_bound(leaves.begin(), leaves.end(), range.first, [](const auto& c, int x) { return c.x() < x; });
+  for (; first != leaves.end() && first->x() < range.second; ++first)
+    slab->tree().addLeaf(grid.tree().root().template stealNode<LeafT>(*first, grid.background(), false));
+  if (!tiles) return slab;
+  auto tile = tiles->tree().cbeginValueAll();
   tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
   for (; tile; ++tile) {
     if (!tile.isValueOn() && *tile == grid.background()) continue;
@@ -150,6 +166,10 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
   } else {
     notes_ = applyGridMapping(grids_, mapping, path).notes;  // names and topology only: nothing is read
   }
+  pieces_.resize(grids_.size());
+  for (std::size_t i = 0; i < grids_.size() && !why_not_; ++i)
+    if (isVoxelIndexed(grids_[i]->getName()))
+      dispatch(*grids_[i], [&](auto& grid) { findPieces(grid, pieces_[i].leaves, pieces_[i].tiles); });
 }
 
 MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes) const {
@@ -207,13 +227,14 @@ MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::u
 MediumPtr MediumSlabs::slab(const SlabRange& range) {
   releaseMappedPages(path_);  // the slabs before this one are read and freed
   openvdb::GridPtrVec grids;
-  for (const auto& base : grids_) {
-    if (!isVoxelIndexed(base->getName())) {
-      grids.push_back(base->deepCopyGrid());
+  for (std::size_t i = 0; i < grids_.size(); ++i) {
+    if (!isVoxelIndexed(grids_[i]->getName())) {
+      grids.push_back(grids_[i]->deepCopyGrid());
       continue;
     }
-    dispatch(*base, [&](auto& grid) {
-      auto part = takeSlab(grid, range);
+    dispatch(*grids_[i], [&](auto& grid) {
+      using GridT = std::decay_t<decltype(grid)>;
+      auto part = takeSlab(grid, pieces_[i].leaves, static_cast<const GridT*>(pieces_[i].tiles.get()), range);
       loadLeaves(*part, path_);
       grids.push_back(part);
     });

@@ -58,6 +58,14 @@ class MediumSlabs {
   std::string path_;
   openvdb::MetaMap::Ptr metadata_;
   openvdb::GridPtrVec grids_;  // topology, values on the file (delayed loading)
+  // Per voxel-indexed grid (null tiles otherwise), found once: its leaves' origins sorted by x, and
+  // its tiles (active, or inactive with another value than the background) as a grid of their own,
+  // so that a slab visits its own leaves and the few tiles, not every node slot of the file's trees.
+  struct Pieces {
+    std::vector<openvdb::Coord> leaves;
+    openvdb::GridBase::Ptr tiles;
+  };
+  std::vector<Pieces> pieces_;
   std::optional<std::string> why_not_;
   std::vector<std::string> notes_;
   bool saw_density_ = false;
