@@ -116,22 +116,64 @@ void releaseMappedPages(const std::string& path) {
   }
 }
 
-// The value types a slab can hold (the contract's, and the usual foreign ones); a file with a grid of
-// another type is read whole.
+// The grid types a slab can hold (the contract's, and the usual foreign ones); a file with a grid of
+// another type is read whole. GridBase::apply calls an operation on the grid as its own type.
+using SlabGridTypes = openvdb::TypeList<openvdb::FloatGrid, openvdb::Vec3SGrid, openvdb::Int32Grid, openvdb::DoubleGrid,
+                                        openvdb::Vec3DGrid, openvdb::Int64Grid>;
+
 bool slabType(const openvdb::GridBase& grid) {
-  return grid.isType<openvdb::FloatGrid>() || grid.isType<openvdb::Vec3SGrid>() || grid.isType<openvdb::Int32Grid>() ||
-         grid.isType<openvdb::DoubleGrid>() || grid.isType<openvdb::Vec3DGrid>() || grid.isType<openvdb::Int64Grid>();
+  return grid.apply<SlabGridTypes>([](const auto&) {});
 }
 
-template <typename Op>
-void dispatch(openvdb::GridBase& grid, Op op) {
-  if (auto* f = dynamic_cast<openvdb::FloatGrid*>(&grid)) return op(*f);
-  if (auto* v = dynamic_cast<openvdb::Vec3SGrid*>(&grid)) return op(*v);
-  if (auto* i = dynamic_cast<openvdb::Int32Grid*>(&grid)) return op(*i);
-  if (auto* d = dynamic_cast<openvdb::DoubleGrid*>(&grid)) return op(*d);
-  if (auto* v = dynamic_cast<openvdb::Vec3DGrid*>(&grid)) return op(*v);
-  if (auto* l = dynamic_cast<openvdb::Int64Grid*>(&grid)) return op(*l);
-  throw std::logic_error("dispatch: a grid type slabType does not allow");
+// The bytes of each band's leaves and of the internal nodes they bring along, and what stays in
+// memory throughout (each leaf's node on the file's side, and the output's leaves), for one grid.
+template <typename GridT>
+void addGridBytes(const GridT& grid, const std::vector<openvdb::Coord>& leaves, const GridT* tiles, int band,
+                  std::map<int, std::uint64_t>& band_bytes, std::uint64_t& resident_bytes) {
+  using TreeT = typename GridT::TreeType;
+  constexpr std::uint64_t kOnFileLeafBytes = 96;  // an unread leaf: its node, masks and file reference
+  const std::uint64_t bytes = leafBytesOf(grid);
+  std::set<openvdb::Coord> blocks;                       // the output's leaves
+  std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
+  for (const openvdb::Coord& origin : leaves) {
+    const int b = floorDiv(origin.x(), band);
+    for (const int log2 : {7, 12})  // the two internal levels: 128^3 and 4096^3 voxels
+      if (nodes.insert({b, log2, blockOf(origin, openvdb::Coord(1 << log2))}).second)
+        band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
+    band_bytes[b] += bytes;
+    resident_bytes += kOnFileLeafBytes;
+    blocks.insert(blockOf(origin, openvdb::Coord(band)));
+  }
+  if (tiles) {
+    auto tile = tiles->tree().cbeginValueAll();
+    tile.setMaxDepth(TreeT::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) {  // a tile's part in a band, as leaves
+      if (!tile.isValueOn() && *tile == grid.background()) continue;
+      const openvdb::CoordBBox box = tile.getBoundingBox();
+      const std::uint64_t leaves_per_band =
+          (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) * std::uint64_t(band / 8 + 1);
+      for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
+      for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c) blocks.insert(*c);
+    }
+  }
+  resident_bytes += blocks.size() * bytes;
+}
+
+// Consecutive bands packed into slabs of at most `slab_bytes` (a band alone may exceed it).
+std::vector<SlabRange> packSlabs(const std::map<int, std::uint64_t>& band_bytes, int band, std::uint64_t slab_bytes) {
+  std::vector<SlabRange> slabs;
+  std::uint64_t used = 0;
+  for (const auto& [index, bytes] : band_bytes) {
+    const int x0 = index * band, x1 = x0 + band;
+    if (!slabs.empty() && slabs.back().second == x0 && used + bytes <= slab_bytes) {
+      slabs.back().second = x1;
+      used += bytes;
+    } else {
+      slabs.push_back({x0, x1});
+      used = bytes;
+    }
+  }
+  return slabs;
 }
 
 }  // namespace
@@ -169,58 +211,23 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
   pieces_.resize(grids_.size());
   for (std::size_t i = 0; i < grids_.size() && !why_not_; ++i)
     if (isVoxelIndexed(grids_[i]->getName()))
-      dispatch(*grids_[i], [&](auto& grid) { findPieces(grid, pieces_[i].leaves, pieces_[i].tiles); });
+      grids_[i]->apply<SlabGridTypes>([&](const auto& grid) { findPieces(grid, pieces_[i].leaves, pieces_[i].tiles); });
 }
 
 MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes) const {
-  constexpr std::uint64_t kOnFileLeafBytes = 96;  // an unread leaf: its node, masks and file reference
-  std::map<int, std::uint64_t> band_bytes;         // band index -> bytes of its leaves, every voxel grid
+  std::map<int, std::uint64_t> band_bytes;  // band index -> bytes of its leaves, every voxel grid
   Plan plan;
-  for (const auto& base : grids_) {
-    if (!isVoxelIndexed(base->getName())) continue;
-    dispatch(*base, [&](auto& grid) {
-      using TreeT = std::decay_t<decltype(grid.tree())>;
-      const std::uint64_t bytes = leafBytesOf(grid);
-      std::set<openvdb::Coord> blocks;              // the output's leaves
-      std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
-      for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
-        const int b = floorDiv(leaf->origin().x(), band);
-        for (const int log2 : {7, 12})  // the two internal levels: 128^3 and 4096^3 voxels
-          if (nodes.insert({b, log2, blockOf(leaf->origin(), openvdb::Coord(1 << log2))}).second)
-            band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
-        band_bytes[b] += bytes;
-        plan.leaf_bytes += bytes;
-        plan.resident_bytes += kOnFileLeafBytes;
-        blocks.insert(blockOf(leaf->origin(), openvdb::Coord(band)));
-      }
-      auto tile = grid.tree().cbeginValueOn();
-      tile.setMaxDepth(TreeT::ValueOnCIter::LEAF_DEPTH - 1);
-      for (; tile; ++tile) {  // a tile's part in a band, as leaves
-        openvdb::CoordBBox box;
-        tile.getBoundingBox(box);
-        const std::uint64_t leaves_per_band = (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) *
-                                              std::uint64_t(band / 8 + 1);
-        for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
-        for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c) blocks.insert(*c);
-      }
-      plan.resident_bytes += blocks.size() * bytes;
-    });
-  }
+  for (std::size_t i = 0; i < grids_.size(); ++i)
+    if (isVoxelIndexed(grids_[i]->getName()))
+      grids_[i]->apply<SlabGridTypes>([&](const auto& grid) {
+        using GridT = std::decay_t<decltype(grid)>;
+        addGridBytes(grid, pieces_[i].leaves, static_cast<const GridT*>(pieces_[i].tiles.get()), band, band_bytes,
+                     plan.resident_bytes);
+      });
   for (const auto& entry : band_bytes) plan.largest_band_bytes = std::max(plan.largest_band_bytes, entry.second);
   const std::uint64_t free_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
   if (plan.largest_band_bytes > free_bytes) return plan;  // no slabs: one band does not fit
-  const std::uint64_t slab_bytes = std::min(free_bytes, std::max(slab_target_bytes, plan.largest_band_bytes));
-  std::uint64_t used = 0;
-  for (const auto& [index, bytes] : band_bytes) {
-    const int x0 = index * band, x1 = x0 + band;
-    if (!plan.slabs.empty() && plan.slabs.back().second == x0 && used + bytes <= slab_bytes) {
-      plan.slabs.back().second = x1;
-      used += bytes;
-    } else {
-      plan.slabs.push_back({x0, x1});
-      used = bytes;
-    }
-  }
+  plan.slabs = packSlabs(band_bytes, band, std::min(free_bytes, std::max(slab_target_bytes, plan.largest_band_bytes)));
   return plan;
 }
 
@@ -232,7 +239,7 @@ MediumPtr MediumSlabs::slab(const SlabRange& range) {
       grids.push_back(grids_[i]->deepCopyGrid());
       continue;
     }
-    dispatch(*grids_[i], [&](auto& grid) {
+    grids_[i]->apply<SlabGridTypes>([&](auto& grid) {
       using GridT = std::decay_t<decltype(grid)>;
       auto part = takeSlab(grid, pieces_[i].leaves, static_cast<const GridT*>(pieces_[i].tiles.get()), range);
       loadLeaves(*part, path_);

@@ -28,7 +28,8 @@ class MediumSlabs {
   // Opens `path` (MediumError for a missing or unreadable file, as readMedium gives).
   MediumSlabs(const std::string& path, const GridMapping& mapping);
 
-  // Why the file must be read whole instead (a grid mapping applies to it), or nullopt.
+  // Why the file must be read whole instead (a grid mapping applies to it, or a grid is of a type a
+  // slab does not take), or nullopt. plan and slab need a file read in slabs.
   const std::optional<std::string>& whyNotStreamed() const { return why_not_; }
 
   // Slabs of whole bands `band` voxels wide (band = 8 F for factor F, aligned to x = 0), covering
@@ -39,7 +40,6 @@ class MediumSlabs {
     std::vector<SlabRange> slabs;
     std::uint64_t largest_band_bytes = 0;  // a band's leaves, every voxel grid
     std::uint64_t resident_bytes = 0;      // topology and output
-    std::uint64_t leaf_bytes = 0;          // every leaf of every voxel grid: what a whole read holds
   };
   // Slabs hold at most `slab_target_bytes` where the budget allows more: small slabs cost no time.
   Plan plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes = ~std::uint64_t(0)) const;

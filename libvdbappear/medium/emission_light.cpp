@@ -1,9 +1,9 @@
 #include "libvdbappear/medium/emission_light.h"
 
+#include "libvdbappear/io/set_active_values.h"
 #include "libvdbappear/util/error.h"
 
 #include <fmt/format.h>
-#include "libvdbappear/io/set_active_values.h"
 
 namespace vdbappear {
 
@@ -57,13 +57,10 @@ openvdb::Vec3SGrid::Ptr voxelEmission(const Medium& medium) {
   if (!temperature) return emission;
   auto light = blackbodyLight(*temperature, blackbodySettings(*temperature));
   if (!emission) return light;
-  light->tree().voxelizeActiveTiles();
   auto sum = emission->deepCopy();
-  sum->tree().voxelizeActiveTiles();
   sum->tree().topologyUnion(light->tree());
-  auto add = light->getConstAccessor();
-  for (auto leaf = sum->tree().beginLeaf(); leaf; ++leaf)
-    for (auto v = leaf->beginValueOn(); v; ++v) v.setValue(*v + add.getValue(v.getCoord()));
+  sum->tree().voxelizeActiveTiles();  // the light varies within a tile of the emission
+  setActiveValues(*sum, [&](const openvdb::Coord& ijk, const openvdb::Vec3s& e) { return e + light->tree().getValue(ijk); });
   return sum;
 }
 
