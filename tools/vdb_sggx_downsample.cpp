@@ -10,6 +10,7 @@
 #include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -29,10 +30,11 @@ constexpr const char* kExamples = R"(Examples:
   vdb_sggx_downsample -f 8 --s-weight density -v --report report.json in.vdb out.vdb
   vdb_sggx_downsample -f 2 --memory 2 -v twill1024.vdb twill512.vdb
 
-A file is read in slabs along x, each as wide as fits in --memory with the output (a quarter of the
-machine's memory by default, at most 4 GB): the result is the same, bit for bit, as reading the
-medium whole (--in-core), which stdin (-) and files that a grid mapping (--grid, --from) applies to
-are. See docs/scaling.md.
+A file is read in slabs along x, each as wide as fits in --memory (a quarter of the machine's memory
+by default, at most 4 GB); the downsampled slabs wait on scratch files in OUT's folder (removed
+as they are made: nothing is left behind) and are written leaf by leaf. The result is the same, bit
+for bit, as reading the medium whole (--in-core), which stdin (-) and files that a grid mapping
+(--grid, --from) applies to are. See docs/scaling.md.
 
 Output voxel I holds input voxels F*I .. F*I+F-1 on each axis; the world region is preserved.
 density: mean over the F^3 children, empty ones counting 0 (Eq. 6). albedo: density-weighted mean
@@ -55,7 +57,8 @@ std::optional<StreamedDownsample> streamed(const Options& options) {
   std::optional<StreamedDownsample> result;
   {
     ProgressBar progress("downsampling slabs", 0);
-    result = downsampleNaiveStreamed(options.input, options.mapping, options.downsample, budget, &why_not, &progress);
+    result = downsampleNaiveStreamed(options.input, options.mapping, options.downsample, budget, &why_not, &progress,
+                                     options.output);
   }
   if (!result && options.verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", kTool, options.input, why_not);
   if (result) {
@@ -71,11 +74,12 @@ int downsample(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
   DownsampleResult result;
-  MediumSummary in;
+  MediumSummary in, out;
   double read_seconds = 0, downsample_seconds = 0;
   if (auto slabs = streamed(options)) {  // reading and downsampling interleave: one time for both
     result = std::move(slabs->result);
     in = std::move(slabs->input);
+    out = std::move(slabs->output);
     downsample_seconds = clock.lap();
   } else {
     const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
@@ -83,14 +87,14 @@ int downsample(const Options& options, const std::string& history) {
     ProgressBar progress("downsampling", 0);
     result = downsampleNaive(*fine, options.downsample, &progress);
     in = summarize(*fine);
+    out = summarize(*result.medium);
     downsample_seconds = clock.lap();
   }
   for (const auto& warning : result.warnings) fmt::print(stderr, "{}: warning: {}\n", kTool, warning);
 
-  writeMedium(*result.medium, options.output, history);
+  writeMedium(*result.medium, options.output, history);  // in slabs: leaf by leaf, from disk
   const double write_seconds = clock.lap();
 
-  const MediumSummary out = summarize(*result.medium);
   if (options.verbose) {
     fmt::print(stderr, "{}: {} -> {}: factor {}, {} -> {} active voxels ({:.1f}x fewer), {:.1f} -> {:.1f} MB in memory\n",
                kTool, options.input, options.output, options.downsample.factor, in.active_voxels, out.active_voxels,

@@ -2,11 +2,11 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_slabs.h"
+#include "libvdbappear/io/spilled_medium.h"
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,32 +27,6 @@ double roundedUp(double x) {
   return std::ceil(x / step) * step;
 }
 
-// Moves the leaves of `part`'s grids into `whole`'s: the slabs' coarse leaves are disjoint (a slab
-// is whole coarse leaves), so the merged trees are those one downsampling of the whole would build.
-template <typename GridPtr>
-void mergeGrid(const GridPtr& whole, const GridPtr& part) {
-  if (whole && part) whole->tree().merge(part->tree());
-}
-
-void mergeInto(Medium& whole, Medium& part) {
-  mergeGrid(whole.density, part.density);
-  mergeGrid(whole.albedo, part.albedo);
-  mergeGrid(whole.sggx_diag, part.sggx_diag);
-  mergeGrid(whole.sggx_offdiag, part.sggx_offdiag);
-  mergeGrid(whole.hg_g, part.hg_g);
-  for (const auto& grid : whole.other_grids) {
-    const auto other = std::find_if(part.other_grids.begin(), part.other_grids.end(),
-                                    [&](const auto& g) { return g->getName() == grid->getName(); });
-    if (other == part.other_grids.end() || isBlockIndexedGridName(grid->getName()) ||
-        grid->getName() == grid_names::kPhaseTable)
-      continue;  // not indexed by voxel: every slab carries the same copy
-    if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) mergeGrid(f, openvdb::gridPtrCast<openvdb::FloatGrid>(*other));
-    else if (auto v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid)) mergeGrid(v, openvdb::gridPtrCast<openvdb::Vec3SGrid>(*other));
-    else throw MediumError(fmt::format("{}: grid '{}': a downsampled grid of {} values cannot be merged", whole.source,
-                                       grid->getName(), grid->valueType()));
-  }
-}
-
 void addSummary(MediumSummary& total, const MediumSummary& part) {
   total.active_voxels += part.active_voxels;
   total.memory_bytes += part.memory_bytes;
@@ -70,15 +44,10 @@ void addSummary(MediumSummary& total, const MediumSummary& part) {
 
 }  // namespace
 
-std::uint64_t defaultMemoryBudget() {
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  const std::uint64_t machine = pages > 0 && page > 0 ? std::uint64_t(pages) * std::uint64_t(page) : std::uint64_t(16e9);
-  return std::min<std::uint64_t>(machine / 4, std::uint64_t(4 * kGB));
-}
-
 std::optional<StreamedDownsample> downsampleNaiveStreamed(const std::string& path, const GridMapping& mapping,
                                                           const DownsampleOptions& options, std::uint64_t memory_bytes,
-                                                          std::string* why_not, ProgressBar* progress) {
+                                                          std::string* why_not, ProgressBar* progress,
+                                                          const std::string& output) {
   if (options.factor < 2 || options.factor > kMaxDownsampleFactor)
     throw std::invalid_argument(fmt::format("downsampling factor {} outside 2..{}", options.factor, kMaxDownsampleFactor));
   MediumSlabs slabs(path, mapping);
@@ -97,24 +66,24 @@ std::optional<StreamedDownsample> downsampleNaiveStreamed(const std::string& pat
   out.notes = slabs.notes();
   out.slabs = int(plan.slabs.size());
   if (progress) progress->setTotal(plan.slabs.size());
-  std::uint64_t largest = 0;
+  SpilledMedium whole(output);  // the coarse slabs, their values on disk until written
   for (const SlabRange& range : plan.slabs) {
     MediumPtr part = slabs.slab(range);
     const MediumSummary part_summary = summarize(*part);
     addSummary(out.input, part_summary);
-    largest = std::max<std::uint64_t>(largest, part_summary.memory_bytes);
+    out.largest_slab_bytes = std::max<std::uint64_t>(out.largest_slab_bytes, part_summary.memory_bytes);
     DownsampleResult coarse = downsampleNaive(*part, options);
     part.reset();  // the slab's leaves are freed here
     for (const auto& warning : coarse.warnings)
       if (std::find(out.result.warnings.begin(), out.result.warnings.end(), warning) == out.result.warnings.end())
         out.result.warnings.push_back(warning);
-    if (!out.result.medium) out.result.medium = coarse.medium;
-    else mergeInto(*out.result.medium, *coarse.medium);
+    addSummary(out.output, summarize(*coarse.medium));
+    whole.add(*coarse.medium, fmt::format("the downsampled slab x = {}..{} of {}", range.first, range.second - 1, path));
     if (progress) progress->advance(1);
   }
   slabs.finish();  // some voxel had density > 0
+  out.result.medium = whole.medium();
   out.result.medium->source = path;
-  out.largest_slab_bytes = largest;
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_of_grids.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/io/vdb_read_error.h"
+#include "libvdbappear/io/spilled_medium.h"
 #include "libvdbappear/io/vdb_writer.h"
 #include "libvdbappear/util/error.h"
 
@@ -224,7 +225,7 @@ void writeMedium(const Medium& medium, const std::string& path, const std::strin
   openvdb::initialize();
   checkWritable(path);
   try {
-    validateMedium(medium, path == kStdio ? "stdout" : path);
+    if (!isValidatedInParts(medium)) validateMedium(medium, path == kStdio ? "stdout" : path);
   } catch (const MediumError& e) {
     throw MediumError(fmt::format("not written, the result is not a valid medium: {}", e.what()));
   }
@@ -234,9 +235,8 @@ void writeMedium(const Medium& medium, const std::string& path, const std::strin
     history = previous->value() + "\n";
   metadata.insertMeta(metadata_names::kHistory, openvdb::StringMetadata(history + history_line));
   metadata.insertMeta(metadata_names::kSchema, openvdb::Int32Metadata(metadata_names::kSchemaVersion));
-  const openvdb::GridCPtrVec grids = medium.grids();
-
-  writeVdb(path, grids, metadata);
+  if (isValidatedInParts(medium)) writeValidatedInParts(path, medium, metadata);  // leaf by leaf, from disk
+  else writeVdb(path, medium.grids(), metadata);
 }
 
 }  // namespace vdbappear

@@ -25,7 +25,8 @@ MediumPtr readMediumStream(std::istream& in, const std::string& source, const Gr
 // Medium::read_notes, for tools that do not include OpenVDB.
 const std::vector<std::string>& readNotes(const Medium& medium);
 
-// Validates the medium (a tool never writes what the tools would refuse to read), appends
+// Validates the medium (a tool never writes what the tools would refuse to read; a medium made in
+// parts, io/spilled_medium.h, was validated part by part and is not read whole again), appends
 // history_line to its `history` metadata, stamps `schema`, and writes it. A file is written to a
 // temporary name in the same folder, checked, and renamed when complete, so OUT is either the old
 // file or the whole new one. path "-" writes a VDB stream to stdout.

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/mapped_grids.h"
+#include "libvdbappear/io/mapped_pages.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_of_grids.h"
 #include "libvdbappear/io/medium_validate.h"
@@ -14,12 +15,8 @@
 #include <openvdb/util/logging.h>
 
 #include <openvdb/tree/LeafManager.h>
-#include <sys/mman.h>
 
 #include <algorithm>
-#include <cinttypes>
-#include <cstdio>
-#include <fstream>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -99,23 +96,6 @@ void loadLeaves(GridT& grid, const std::string& path) {
   }
 }
 
-// Gives back the pages of the file's memory mapping that this process has touched (the slabs read
-// so far): they count in its resident memory until then. Leaves not yet read fault theirs in again.
-void releaseMappedPages(const std::string& path) {
-  std::error_code error;
-  const std::string file = std::filesystem::canonical(path, error).string();
-  if (error) return;
-  std::ifstream maps("/proc/self/maps");
-  std::string line;
-  while (std::getline(maps, line)) {
-    const std::size_t at = line.find('/');
-    if (at == std::string::npos || line.compare(at, std::string::npos, file) != 0) continue;
-    std::uintptr_t begin = 0, end = 0;
-    if (std::sscanf(line.c_str(), "%" SCNxPTR "-%" SCNxPTR, &begin, &end) == 2 && end > begin)
-      madvise(reinterpret_cast<void*>(begin), end - begin, MADV_DONTNEED);
-  }
-}
-
 // The grid types a slab can hold (the contract's, and the usual foreign ones); a file with a grid of
 // another type is read whole. GridBase::apply calls an operation on the grid as its own type.
 using SlabGridTypes = openvdb::TypeList<openvdb::FloatGrid, openvdb::Vec3SGrid, openvdb::Int32Grid, openvdb::DoubleGrid,
@@ -125,8 +105,9 @@ bool slabType(const openvdb::GridBase& grid) {
   return grid.apply<SlabGridTypes>([](const auto&) {});
 }
 
-// The bytes of each band's leaves and of the internal nodes they bring along, and what stays in
-// memory throughout (each leaf's node on the file's side, and the output's leaves), for one grid.
+// The bytes of each band's leaves, of the internal nodes they bring along and of its output leaves,
+// and what stays in memory throughout (each leaf's node on the input file's side, and on the output's
+// scratch files' side: io/spilled_medium.h), for one grid.
 template <typename GridT>
 void addGridBytes(const GridT& grid, const std::vector<openvdb::Coord>& leaves, const GridT* tiles, int band,
                   std::map<int, std::uint64_t>& band_bytes, std::uint64_t& resident_bytes) {
@@ -142,7 +123,7 @@ void addGridBytes(const GridT& grid, const std::vector<openvdb::Coord>& leaves, 
         band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
     band_bytes[b] += bytes;
     resident_bytes += kOnFileLeafBytes;
-    blocks.insert(blockOf(origin, openvdb::Coord(band)));
+    if (blocks.insert(blockOf(origin, openvdb::Coord(band))).second) band_bytes[b] += bytes;  // its output leaf
   }
   if (tiles) {
     auto tile = tiles->tree().cbeginValueAll();
@@ -153,10 +134,11 @@ void addGridBytes(const GridT& grid, const std::vector<openvdb::Coord>& leaves, 
       const std::uint64_t leaves_per_band =
           (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) * std::uint64_t(band / 8 + 1);
       for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
-      for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c) blocks.insert(*c);
+      for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c)
+        if (blocks.insert(*c).second) band_bytes[(*c).x()] += bytes;  // blocks are bands along x
     }
   }
-  resident_bytes += blocks.size() * bytes;
+  resident_bytes += blocks.size() * kOnFileLeafBytes;  // the output's leaves, their values on disk
 }
 
 // Consecutive bands packed into slabs of at most `slab_bytes` (a band alone may exceed it).
@@ -232,7 +214,7 @@ MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::u
 }
 
 MediumPtr MediumSlabs::slab(const SlabRange& range) {
-  releaseMappedPages(path_);  // the slabs before this one are read and freed
+  releaseMappedPages({path_});  // the slabs before this one are read and freed
   openvdb::GridPtrVec grids;
   for (std::size_t i = 0; i < grids_.size(); ++i) {
     if (!isVoxelIndexed(grids_[i]->getName())) {

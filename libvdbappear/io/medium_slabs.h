@@ -34,12 +34,13 @@ class MediumSlabs {
 
   // Slabs of whole bands `band` voxels wide (band = 8 F for factor F, aligned to x = 0), covering
   // every active value in increasing x, each as wide as fits in `memory_bytes` less what stays in
-  // memory throughout: the trees' topology (on the file's side) and the output (a leaf per band-wide
-  // block that holds a leaf, per voxel grid). No slabs if one band alone does not fit.
+  // memory throughout: the trees' topology on the input file's side and on the output's (a leaf per
+  // band-wide block that holds a leaf, per voxel grid, its values spilled to disk:
+  // io/spilled_medium.h). No slabs if one band alone does not fit.
   struct Plan {
     std::vector<SlabRange> slabs;
-    std::uint64_t largest_band_bytes = 0;  // a band's leaves, every voxel grid
-    std::uint64_t resident_bytes = 0;      // topology and output
+    std::uint64_t largest_band_bytes = 0;  // a band's leaves and its output's, every voxel grid
+    std::uint64_t resident_bytes = 0;      // the topology of input and output
   };
   // Slabs hold at most `slab_target_bytes` where the budget allows more: small slabs cost no time.
   Plan plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes = ~std::uint64_t(0)) const;

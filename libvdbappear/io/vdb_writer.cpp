@@ -3,7 +3,7 @@
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/util/error.h"
 
-#include <openvdb/io/Stream.h>
+#include <openvdb/io/Archive.h>
 
 #include <fmt/format.h>
 
@@ -14,27 +14,37 @@ namespace vdbappear {
 
 namespace {
 
-// io::File's writer on a stream of our own, so that a failed write (a full disk) is noticed
-// instead of a truncated file being renamed into place.
-class CheckedFileWriter : public openvdb::io::Archive {
+// OpenVDB's archive writer with the compression asked for.
+class CompressingArchive : public openvdb::io::Archive {
  public:
-  // Writes `temporary`; errors name `target`, the file the user asked for.
-  void writeFile(const std::string& temporary, const std::string& target, const openvdb::GridCPtrVec& grids,
-                 const openvdb::MetaMap& metadata) const {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file) throw MediumError(fmt::format("{}: cannot open a temporary file beside it for writing", target));
-    Archive::write(file, grids, /*seekable=*/true, metadata);
-    file.close();
-    if (!file) throw MediumError(fmt::format("{}: write failed (disk full?)", target));
+  explicit CompressingArchive(std::uint32_t compression) { setCompression(compression); }
+  void writeTo(std::ostream& os, bool seekable, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
+    Archive::write(os, grids, seekable, metadata);
   }
 };
 
+// `write` on a stream of our own, so that a failed write (a full disk) is noticed instead of a
+// truncated file being renamed into place. Errors name `target`, the file the user asked for.
+void writeChecked(const std::string& file, const std::string& target, const VdbStreamWriter& write) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) throw MediumError(fmt::format("{}: cannot open a temporary file beside it for writing", target));
+  try {
+    write(out, /*seekable=*/true);
+  } catch (const MediumError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: cannot write ({})", target, e.what()));
+  }
+  out.close();
+  if (!out) throw MediumError(fmt::format("{}: write failed (disk full?)", target));
+}
+
 }  // namespace
 
-void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) {
+void writeVdbWith(const std::string& path, const VdbStreamWriter& write) {
   if (path == "-") {
     try {
-      openvdb::io::Stream(std::cout).write(grids, metadata);
+      write(std::cout, /*seekable=*/false);
       std::cout.flush();
     } catch (const std::exception& e) {
       throw MediumError(fmt::format("stdout: cannot write the VDB stream ({})", e.what()));
@@ -43,14 +53,20 @@ void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const 
     return;
   }
   AtomicFile output(path);
-  try {
-    CheckedFileWriter().writeFile(output.temporaryPath(), path, grids, metadata);
-  } catch (const MediumError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: cannot write ({})", path, e.what()));
-  }
+  writeChecked(output.temporaryPath(), path, write);
   output.commit();
+}
+
+void writeVdb(const std::string& path, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) {
+  writeVdbWith(path, [&](std::ostream& os, bool seekable) {
+    CompressingArchive(openvdb::io::Archive::DEFAULT_COMPRESSION_FLAGS).writeTo(os, seekable, grids, metadata);
+  });
+}
+
+void writeScratchVdb(const std::string& file, const openvdb::GridCPtrVec& grids) {
+  writeChecked(file, file, [&](std::ostream& os, bool seekable) {
+    CompressingArchive(openvdb::io::COMPRESS_ACTIVE_MASK).writeTo(os, seekable, grids, openvdb::MetaMap());
+  });
 }
 
 }  // namespace vdbappear

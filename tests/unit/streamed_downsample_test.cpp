@@ -6,6 +6,7 @@
 #include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_slabs.h"
+#include "libvdbappear/io/spilled_medium.h"
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/util/error.h"
 
@@ -16,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -72,6 +74,25 @@ template <typename GridT>
   return ::testing::AssertionSuccess();
 }
 
+// Leaves of the voxel-indexed grids whose values are in memory (not yet read from their file).
+std::size_t leavesInMemory(const Medium& medium) {
+  std::size_t count = 0;
+  for (const auto& grid : medium.grids()) {
+    if (auto f = openvdb::gridConstPtrCast<openvdb::FloatGrid>(grid))
+      for (auto leaf = f->tree().cbeginLeaf(); leaf; ++leaf) count += !leaf->buffer().isOutOfCore();
+    else if (auto v = openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(grid))
+      for (auto leaf = v->tree().cbeginLeaf(); leaf; ++leaf) count += !leaf->buffer().isOutOfCore();
+  }
+  return count;
+}
+
+std::vector<std::string> filesIn(const std::string& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 // The smallest budget that reads `path`: what stays in memory and one band.
 std::uint64_t smallestBudget(const std::string& path, int factor) {
   const MediumSlabs::Plan plan = MediumSlabs(path, {}).plan(8 * factor, ~std::uint64_t(0));
@@ -86,6 +107,7 @@ int expectStreamedEqualsInCore(const std::string& path, int factor, SggxWeightin
   const auto streamed = downsampleNaiveStreamed(path, {}, options, smallestBudget(path, factor), &why_not);
   EXPECT_TRUE(streamed) << path << ": " << why_not;
   if (!streamed) return 0;
+  EXPECT_EQ(leavesInMemory(*streamed->result.medium), 0u) << path << ": the coarse slabs' values wait on disk";
   EXPECT_TRUE(identicalMedia(*whole.medium, *streamed->result.medium)) << path << ", factor " << factor;
   EXPECT_EQ(whole.warnings, streamed->result.warnings) << path;
   return streamed->slabs;
@@ -122,6 +144,36 @@ TEST(StreamedDownsample, NegativeRangesEmissionAndOneSlab) {
   EXPECT_GE(expectStreamedEqualsInCore(path, 2), 4) << "many slabs";
   EXPECT_GE(expectStreamedEqualsInCore(path, 5), 2);
   EXPECT_EQ(expectStreamedEqualsInCore(std::string(GOLDEN_DIR) + "/cube8.vdb", 8), 1) << "smaller than one slab";
+}
+
+// The coarse slabs wait on scratch files beside the output, removed as soon as they are mapped, and
+// the write reads one leaf at a time: what it writes is what the whole read writes; the written
+// medium's leaves stay on disk; nothing is left in the folder but the files asked for.
+TEST(StreamedDownsample, TheCoarseSlabsWaitOnDiskAndAreWrittenLeafByLeaf) {
+  test::TempDir dir;
+  RandomMediumParams params;
+  params.extent = 40;
+  params.hg_g = true;
+  params.seed = 5;
+  writeMedium(*makeRandomMedium(params), dir.path("in.vdb"), "test");
+  const DownsampleOptions options{2, SggxWeighting::Count};
+  writeMedium(*downsampleNaive(*readMedium(dir.path("in.vdb")), options).medium, dir.path("whole.vdb"), "test");
+
+  std::string why_not;
+  const std::string out = dir.path("slabs.vdb");
+  const auto streamed = downsampleNaiveStreamed(dir.path("in.vdb"), {}, options, smallestBudget(dir.path("in.vdb"), 2),
+                                                &why_not, nullptr, out);
+  ASSERT_TRUE(streamed) << why_not;
+  EXPECT_GE(streamed->slabs, 3);
+  EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"in.vdb", "whole.vdb"})) << "no scratch file is left";
+  const std::size_t leaves = streamed->result.medium->density->tree().leafCount();
+  EXPECT_EQ(leavesInMemory(*streamed->result.medium), 0u);
+  EXPECT_TRUE(isValidatedInParts(*streamed->result.medium));
+  writeMedium(*streamed->result.medium, out, "test");
+  EXPECT_EQ(leavesInMemory(*streamed->result.medium), 0u) << "written from copies, a leaf at a time";
+  EXPECT_EQ(streamed->result.medium->density->tree().leafCount(), leaves);
+  EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(out)));
+  EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"in.vdb", "slabs.vdb", "whole.vdb"}));
 }
 
 // Refusals, as the whole read gives them: a budget too small for one slab names what it needs; an
