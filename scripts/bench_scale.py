@@ -9,9 +9,11 @@ is made (its own time and memory measured too), then each command below runs onc
   vdb_lobe_cluster --factor 4 --lobes 2 --clusters 2   (reads whole: not in slabs yet; skipped above --lobe-max)
   vdb_render 64x64, 1 spp                   (reads whole; skipped above --render-max)
   vdb_lod -range 1 on the density grid      OpenVDB's own tool, the peer (Debian's libopenvdb-tools)
-The medium of at least 10^9 active voxels the issue asks for is not made: vdb_make_medium holds a medium
-whole (19 GB for the 1024^3 twill); streaming generation is issue 28's next step. Media are made in
---out and removed at the end unless --keep.
+The medium of at least 10^9 active voxels the issue asks for (the 2048^3 twill) is not in the default
+sizes: vdb_make_medium makes media in slabs within its budget now (2.5 GB for the 1024^3 twill instead
+of 19 GB), but at this machine's rate it takes some 8 times as long as the 1024^3 twill (5.6 min) and
+about 29 GB of disk; give --sizes 256,512,1024,2048 to measure it. Media are made in --out and removed
+at the end unless --keep.
 
 Writes bench-out/scale.md (a table) and bench-out/scale.png (log-log: seconds and GB against active
 voxels), and bench-out/scale.json.
@@ -93,8 +95,10 @@ def main():
     for r in rows:
         cells = [f"{r[k][0]:.1f} s, {r[k][1]:.2f} GB" if k in r else "-" for k, _ in columns]
         lines.append(f"| {r['res']} | {r['active_voxels'] / 1e6:.1f} M | {r['file_gb']:.2f} | " + " | ".join(cells) + " |")
-    lines += ["", "Not measured: a medium of 10^9 active voxels (it cannot be made yet: vdb_make_medium holds a medium "
-              "whole); vdb_lobe_cluster and vdb_render above --lobe-max and --render-max (they read whole).", "",
+    biggest = max(r["active_voxels"] for r in rows) if rows else 0
+    missing = [] if biggest >= 1e9 else ["a medium of 10^9 active voxels (give --sizes ...,2048; see --help)"]
+    lines += ["", "Not measured: " + "; ".join(missing + ["vdb_lobe_cluster and vdb_render above --lobe-max and "
+                                                          "--render-max (they read whole)"]) + ".", "",
               "![time and memory](scale.png)"]
     (out / "scale.md").write_text("\n".join(lines) + "\n")
     (out / "scale.json").write_text(json.dumps(rows, indent=2) + "\n")

@@ -14,6 +14,7 @@
 #include "libvdbappear/procedural/velvet_medium.h"
 #include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -34,6 +35,7 @@ constexpr const char* kTool = "vdb_make_medium";
 constexpr const char* kExamples = R"(Examples:
   vdb_make_medium --list
   vdb_make_medium twill --res 512 -o twill.vdb
+  vdb_make_medium twill --layers 4 --res 2048 --memory 4 -o twill2048.vdb   # larger than memory
   vdb_make_medium twill --pattern satin --warp-albedo 0.9,0.8,0.3 -o satin.vdb
   vdb_make_medium velvet --res 256 -o velvet.vdb
   vdb_make_medium hairy-ball --two-materials -o ball.vdb
@@ -72,6 +74,9 @@ struct Flags {
   std::optional<std::string> layout;
   // random
   std::optional<double> block_fill, voxel_fill;
+  // twill: media larger than memory
+  std::optional<double> memory_gb;
+  bool in_core = false;
 };
 
 template <typename T>
@@ -100,6 +105,7 @@ MediumPtr makeTwill(const Flags& f) {
   take(f.warp_albedo, p.warp_albedo);
   take(f.weft_albedo, p.weft_albedo);
   if (f.harness && p.pattern == "plain") throw std::runtime_error("--harness needs --pattern twill or satin");
+  if (!f.in_core) p.memory = {f.memory_gb ? std::uint64_t(*f.memory_gb * 1e9) : defaultMemoryBudget(), f.output};
   return makeWeave(p);
 }
 
@@ -306,6 +312,11 @@ void addKindFlags(FlagRegistry& r, Flags& f) {
       ->check(CLI::Range(0.01, 1.0));
   r.add("--count", f.count, "number of exemplars N (default 6)", {"exemplars"})->check(CLI::Range(1, 4096));
   r.add("--layout", f.layout, "blocks of the synthesized sheet, WxH (default 8x8)", {"exemplars"});
+  r.add("--memory", f.memory_gb,
+        "GB: memory budget; past a quarter of it the medium is made in slabs that wait on scratch files in OUT's "
+        "folder (default: a quarter of the machine's memory, at most 4)", {"twill"})
+      ->check(CLI::PositiveNumber);
+  r.addFlag("--in-core", f.in_core, "make the whole medium in memory, however large (the same file)", {"twill"});
   r.add("--block-fill", f.block_fill, "fraction of 8^3 blocks occupied (default 0.5)", {"random"})
       ->check(CLI::Range(0.0, 1.0));
   r.add("--voxel-fill", f.voxel_fill, "fraction of voxels active in an occupied block (default 0.6)", {"random"})
@@ -329,7 +340,7 @@ int make(const Flags& flags, const FlagRegistry& registry, const std::string& hi
   writeMedium(*medium, flags.output, history);
   if (flags.verbose) {
     const MediumSummary s = summarize(*medium);
-    fmt::print(stderr, "{}: {}: {} active voxels, {:.1f} MB in memory, made in {:.2f} s, written in {:.2f} s\n", kTool,
+    fmt::print(stderr, "{}: {}: {} active voxels, {:.1f} MB of grids, made in {:.2f} s, written in {:.2f} s\n", kTool,
                flags.kind, s.active_voxels, s.memory_bytes / 1e6, make_seconds, clock.lap());
   }
   return 0;

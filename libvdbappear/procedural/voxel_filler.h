@@ -4,6 +4,7 @@
 
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/procedural/fill_memory.h"
 #include "libvdbappear/procedural/voxel_sample.h"
 
 #include <functional>
@@ -19,6 +20,7 @@ struct ProceduralLayout {
   bool albedo = true;
   bool sggx = true;
   bool hg_g = false;
+  FillMemory memory;          // by default the whole medium in memory
 };
 
 // Voxels needed to cover `extent` world units (a hair under a whole number counts as that number).
@@ -34,6 +36,10 @@ ProceduralLayout centredLayout(const openvdb::Coord& voxels, double voxel_size);
 using BlockTest = std::function<bool(const openvdb::CoordBBox&)>;
 using VoxelFunction = std::function<std::optional<VoxelSample>(const openvdb::Coord& ijk, const Vec3& centre)>;
 
+// With a memory budget (layout.memory), blocks are filled a column of leaves (8 voxels along x) at a
+// time; once the medium holds a quarter of the budget, it moves to scratch files in slabs of at
+// most an eighth (0.5 GB at most), and the result is a medium whose values wait on disk (writeMedium
+// writes it leaf by leaf). Either way the grids are the same, bit for bit.
 MediumPtr fillMedium(const ProceduralLayout& layout, const BlockTest& may_be_occupied, const VoxelFunction& sample);
 
 }  // namespace vdbappear

@@ -115,8 +115,9 @@ MediumPtr makeWeave(const WeaveParams& params) {
   const WeaveGeometry weave(params);
   const double voxel_size = double(std::max(params.yarns, params.layers)) / params.resolution;
   const int across = voxelsToCover(params.yarns, voxel_size);
-  const ProceduralLayout layout =
+  ProceduralLayout layout =
       cornerLayout(openvdb::Coord(across, across, voxelsToCover(params.layers, voxel_size)), voxel_size);
+  layout.memory = params.memory;
   return fillMedium(
       layout,
       [&](const openvdb::CoordBBox& block) {

@@ -9,6 +9,7 @@
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/math/vector.h"
 #include "libvdbappear/procedural/fiber_field.h"
+#include "libvdbappear/procedural/fill_memory.h"
 #include "libvdbappear/procedural/weave_pattern.h"
 
 #include <cstdint>
@@ -28,6 +29,7 @@ struct WeaveParams {
   double twist_pitch = 4;        // world units per full turn of the fibers about the yarn axis
   Vec3 warp_albedo = Vec3(0.85, 0.30, 0.45);  // pink warp, yellow weft: Fig. 9's colours
   Vec3 weft_albedo = Vec3(0.85, 0.75, 0.25);
+  FillMemory memory;             // by default made whole in memory
 };
 
 // Yarn cross-section and fiber layout, world units (yarn spacing 1). Fibers are discs of radius

@@ -8,6 +8,7 @@
 #include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/spilled_medium.h"
 #include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/error.h"
 
 #include "support/medium_testing.h"
@@ -174,6 +175,32 @@ TEST(StreamedDownsample, TheCoarseSlabsWaitOnDiskAndAreWrittenLeafByLeaf) {
   EXPECT_EQ(streamed->result.medium->density->tree().leafCount(), leaves);
   EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(out)));
   EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"in.vdb", "slabs.vdb", "whole.vdb"}));
+}
+
+// Made under a budget that sends it to disk in many slabs, a twill is the twill made whole, grid for
+// grid and bit for bit, its values unread until written, and written to a file read back the same;
+// under a large budget it is made whole in memory.
+TEST(StreamedGeneration, ATwillMadeInSlabsIsTheTwillMadeWhole) {
+  test::TempDir dir;
+  WeaveParams params;
+  params.resolution = 48;
+  params.layers = 2;
+  const MediumPtr whole = makeWeave(params);
+  writeMedium(*whole, dir.path("whole.vdb"), "test");
+  const std::uint64_t data_bytes = whole->density->tree().leafCount() * 20 * 512;  // density, albedo, S
+  params.memory = {data_bytes / 4, dir.path("slabs.vdb")};  // in memory until data/16, slabs of data/32
+  const MediumPtr slabs = makeWeave(params);
+  EXPECT_TRUE(isValidatedInParts(*slabs));
+  EXPECT_EQ(leavesInMemory(*slabs), 0u);
+  EXPECT_TRUE(identicalMedia(*whole, *slabs));
+  writeMedium(*slabs, dir.path("slabs.vdb"), "test");
+  EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(dir.path("slabs.vdb"))));
+  EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"slabs.vdb", "whole.vdb"}));
+
+  params.memory.budget_bytes = std::uint64_t(1) << 32;
+  const MediumPtr roomy = makeWeave(params);
+  EXPECT_FALSE(isValidatedInParts(*roomy)) << "made whole in memory";
+  EXPECT_TRUE(identicalMedia(*whole, *roomy));
 }
 
 // Refusals, as the whole read gives them: a budget too small for one slab names what it needs; an
