@@ -74,7 +74,7 @@ struct Flags {
   std::optional<std::string> layout;
   // random
   std::optional<double> block_fill, voxel_fill;
-  // twill: media larger than memory
+  // twill, velvet, hairy-ball: media larger than memory
   std::optional<double> memory_gb;
   bool in_core = false;
 };
@@ -91,6 +91,12 @@ void take(const std::optional<std::vector<double>>& flag, Vec3& param) {
   param = v.size() == 1 ? Vec3::Constant(v[0]) : Vec3(v[0], v[1], v[2]);
 }
 
+// The kinds made by fillMedium alone may be made in slabs larger than memory (docs/scaling.md §5).
+FillMemory fillMemory(const Flags& f) {
+  if (f.in_core) return {};
+  return {f.memory_gb ? std::uint64_t(*f.memory_gb * 1e9) : defaultMemoryBudget(), f.output};
+}
+
 MediumPtr makeTwill(const Flags& f) {
   WeaveParams p;
   take(f.resolution, p.resolution);
@@ -105,7 +111,7 @@ MediumPtr makeTwill(const Flags& f) {
   take(f.warp_albedo, p.warp_albedo);
   take(f.weft_albedo, p.weft_albedo);
   if (f.harness && p.pattern == "plain") throw std::runtime_error("--harness needs --pattern twill or satin");
-  if (!f.in_core) p.memory = {f.memory_gb ? std::uint64_t(*f.memory_gb * 1e9) : defaultMemoryBudget(), f.output};
+  p.memory = fillMemory(f);
   return makeWeave(p);
 }
 
@@ -119,6 +125,7 @@ MediumPtr makeVelvetKind(const Flags& f) {
   take(f.lean, p.lean_degrees);
   take(f.tilt, p.tilt_degrees);
   take(f.albedo, p.pile_albedo);
+  p.memory = fillMemory(f);
   return makeVelvet(p);
 }
 
@@ -130,6 +137,7 @@ MediumPtr makeHairyBallKind(const Flags& f) {
   take(f.hair_length, p.hair_length);
   take(f.tilt, p.tilt_degrees);
   take(f.roughness, p.roughness);
+  p.memory = fillMemory(f);
   return makeHairyBall(p);
 }
 
@@ -237,7 +245,7 @@ class FlagRegistry {
   }
   CLI::Option* addFlag(const std::string& name, bool& target, const std::string& help, std::set<std::string> kinds) {
     CLI::Option* option = app_.add_flag(name, target, fmt::format("{} [{}]", help, fmt::join(kinds, ", ")));
-    option->group(*kinds.begin() + " options");
+    option->group(kinds.size() == 1 ? *kinds.begin() + " options" : "Options of several kinds");
     flags_.push_back({option, std::move(kinds)});
     return option;
   }
@@ -314,9 +322,10 @@ void addKindFlags(FlagRegistry& r, Flags& f) {
   r.add("--layout", f.layout, "blocks of the synthesized sheet, WxH (default 8x8)", {"exemplars"});
   r.add("--memory", f.memory_gb,
         "GB: memory budget; past a quarter of it the medium is made in slabs that wait on scratch files in OUT's "
-        "folder (default: a quarter of the machine's memory, at most 4)", {"twill"})
+        "folder (default: a quarter of the machine's memory, at most 4)", {"twill", "velvet", "hairy-ball"})
       ->check(CLI::PositiveNumber);
-  r.addFlag("--in-core", f.in_core, "make the whole medium in memory, however large (the same file)", {"twill"});
+  r.addFlag("--in-core", f.in_core, "make the whole medium in memory, however large (the same file)",
+            {"twill", "velvet", "hairy-ball"});
   r.add("--block-fill", f.block_fill, "fraction of 8^3 blocks occupied (default 0.5)", {"random"})
       ->check(CLI::Range(0.0, 1.0));
   r.add("--voxel-fill", f.voxel_fill, "fraction of voxels active in an occupied block (default 0.6)", {"random"})

@@ -78,7 +78,8 @@ MediumPtr makeHairyBall(const HairyBallParams& params) {
   const HairyBall ball(params);
   const double voxel_size = 2 * ball.extent() / params.resolution;
   // Non-negative index coordinates keep the tree under one root child (smaller files).
-  const ProceduralLayout layout = centredLayout(openvdb::Coord(params.resolution), voxel_size);
+  ProceduralLayout layout = centredLayout(openvdb::Coord(params.resolution), voxel_size);
+  layout.memory = params.memory;
   return fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord&, const Vec3& centre) { return sampleFiberVoxel(ball, centre, voxel_size); });

@@ -6,6 +6,7 @@
 
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/procedural/fill_memory.h"
 
 #include <cstdint>
 
@@ -27,6 +28,7 @@ struct HairyBallParams {
   Vec3 material_a = Vec3(0.90, 0.85, 0.75);  // two materials: +x hemisphere, roughness 0.1
   Vec3 material_b = Vec3(0.45, 0.25, 0.12);  // -x hemisphere, roughness 0.4
   double roughness = 0.2;        // gradient fur roughness
+  FillMemory memory;             // by default made whole in memory
 };
 
 // Number of strands the root lattice holds.

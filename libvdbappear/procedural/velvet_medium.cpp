@@ -90,8 +90,9 @@ MediumPtr makeVelvet(const VelvetParams& params) {
   const double extent = std::max(double(params.yarns), velvet.top());
   const double voxel_size = extent / params.resolution;
   const int across = voxelsToCover(params.yarns, voxel_size);
-  const ProceduralLayout layout =
+  ProceduralLayout layout =
       cornerLayout(openvdb::Coord(across, across, voxelsToCover(velvet.top(), voxel_size)), voxel_size);
+  layout.memory = params.memory;
   return fillMedium(
       layout, [](const openvdb::CoordBBox&) { return true; },
       [&](const openvdb::Coord&, const Vec3& centre) { return sampleFiberVoxel(velvet, centre, voxel_size); });

@@ -5,6 +5,7 @@
 
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/procedural/fill_memory.h"
 
 #include <cstdint>
 
@@ -24,6 +25,7 @@ struct VelvetParams {
   double roughness = 0.15;      // SGGX fiber roughness of pile and base
   Vec3 pile_albedo = Vec3(0.60, 0.06, 0.12);
   Vec3 base_albedo = Vec3(0.30, 0.05, 0.08);
+  FillMemory memory;            // by default made whole in memory
 };
 
 MediumPtr makeVelvet(const VelvetParams& params);

@@ -7,7 +7,9 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/spilled_medium.h"
+#include "libvdbappear/procedural/hairy_ball_medium.h"
 #include "libvdbappear/procedural/random_medium.h"
+#include "libvdbappear/procedural/velvet_medium.h"
 #include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/error.h"
 
@@ -201,6 +203,27 @@ TEST(StreamedGeneration, ATwillMadeInSlabsIsTheTwillMadeWhole) {
   const MediumPtr roomy = makeWeave(params);
   EXPECT_FALSE(isValidatedInParts(*roomy)) << "made whole in memory";
   EXPECT_TRUE(identicalMedia(*whole, *roomy));
+}
+
+// Velvet and the hairy ball (its index range centred on zero), made in slabs: the media made whole.
+TEST(StreamedGeneration, VelvetAndHairyBallMadeInSlabsAreMadeWhole) {
+  test::TempDir dir;
+  const FillMemory small{std::uint64_t(1) << 20, dir.path("out.vdb")};  // slabs of 128 KB
+  VelvetParams velvet;
+  velvet.resolution = 32;
+  const MediumPtr whole_velvet = makeVelvet(velvet);
+  velvet.memory = small;
+  const MediumPtr velvet_slabs = makeVelvet(velvet);
+  EXPECT_TRUE(isValidatedInParts(*velvet_slabs));
+  EXPECT_TRUE(identicalMedia(*whole_velvet, *velvet_slabs));
+  HairyBallParams ball;
+  ball.resolution = 40;
+  const MediumPtr whole_ball = makeHairyBall(ball);
+  ball.memory = small;
+  const MediumPtr ball_slabs = makeHairyBall(ball);
+  EXPECT_TRUE(isValidatedInParts(*ball_slabs));
+  EXPECT_TRUE(identicalMedia(*whole_ball, *ball_slabs));
+  EXPECT_TRUE(filesIn(dir.path("")).empty()) << "no scratch file is left";
 }
 
 // Refusals, as the whole read gives them: a budget too small for one slab names what it needs; an
