@@ -205,24 +205,26 @@ TEST(StreamedGeneration, ATwillMadeInSlabsIsTheTwillMadeWhole) {
   EXPECT_TRUE(identicalMedia(*whole, *roomy));
 }
 
+// A procedural kind made whole and made in slabs on disk under `memory`: the same grids, bit for bit.
+template <typename ParamsT>
+void expectMadeInSlabsAsWhole(ParamsT params, MediumPtr (*make)(const ParamsT&), const FillMemory& memory) {
+  const MediumPtr whole = make(params);
+  params.memory = memory;
+  const MediumPtr slabs = make(params);
+  EXPECT_TRUE(isValidatedInParts(*slabs));
+  EXPECT_TRUE(identicalMedia(*whole, *slabs));
+}
+
 // Velvet and the hairy ball (its index range centred on zero), made in slabs: the media made whole.
 TEST(StreamedGeneration, VelvetAndHairyBallMadeInSlabsAreMadeWhole) {
   test::TempDir dir;
   const FillMemory small{std::uint64_t(1) << 20, dir.path("out.vdb")};  // slabs of 128 KB
   VelvetParams velvet;
   velvet.resolution = 32;
-  const MediumPtr whole_velvet = makeVelvet(velvet);
-  velvet.memory = small;
-  const MediumPtr velvet_slabs = makeVelvet(velvet);
-  EXPECT_TRUE(isValidatedInParts(*velvet_slabs));
-  EXPECT_TRUE(identicalMedia(*whole_velvet, *velvet_slabs));
+  expectMadeInSlabsAsWhole(velvet, makeVelvet, small);
   HairyBallParams ball;
   ball.resolution = 40;
-  const MediumPtr whole_ball = makeHairyBall(ball);
-  ball.memory = small;
-  const MediumPtr ball_slabs = makeHairyBall(ball);
-  EXPECT_TRUE(isValidatedInParts(*ball_slabs));
-  EXPECT_TRUE(identicalMedia(*whole_ball, *ball_slabs));
+  expectMadeInSlabsAsWhole(ball, makeHairyBall, small);
   EXPECT_TRUE(filesIn(dir.path("")).empty()) << "no scratch file is left";
 }
 
