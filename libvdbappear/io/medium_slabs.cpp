@@ -26,10 +26,6 @@ namespace vdbappear {
 
 namespace {
 
-// Grids indexed by voxel are cut into slabs; the others (the phase table, the exemplar grids
-// indexed by block) are copied whole into every slab.
-bool isVoxelIndexed(const std::string& name) { return name != grid_names::kPhaseTable && !isBlockIndexedGridName(name); }
-
 // The internal nodes of a tree (5-4-3): a slab's leaves bring theirs along.
 template <typename TreeT>
 constexpr std::uint64_t kNode2Bytes = sizeof(typename TreeT::RootNodeType::ChildNodeType);
@@ -95,11 +91,6 @@ void loadLeaves(GridT& grid, const std::string& path) {
     throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, grid.getName(), vdbReadError(e)));
   }
 }
-
-// The grid types a slab can hold (the contract's, and the usual foreign ones); a file with a grid of
-// another type is read whole. GridBase::apply calls an operation on the grid as its own type.
-using SlabGridTypes = openvdb::TypeList<openvdb::FloatGrid, openvdb::Vec3SGrid, openvdb::Int32Grid, openvdb::DoubleGrid,
-                                        openvdb::Vec3DGrid, openvdb::Int64Grid>;
 
 bool slabType(const openvdb::GridBase& grid) {
   return grid.apply<SlabGridTypes>([](const auto&) {});

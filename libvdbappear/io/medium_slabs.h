@@ -7,6 +7,7 @@
 // Internal header: includes OpenVDB.
 
 #include "libvdbappear/io/grid_mapping.h"
+#include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_file.h"
 
 #include <openvdb/io/File.h>
@@ -19,6 +20,18 @@
 #include <vector>
 
 namespace vdbappear {
+
+// The grid types a slab, or any part of a medium, can hold (the contract's, and the usual foreign
+// ones); a file with a grid of another type is read whole. GridBase::apply calls an operation on the
+// grid as its own type.
+using SlabGridTypes = openvdb::TypeList<openvdb::FloatGrid, openvdb::Vec3SGrid, openvdb::Int32Grid, openvdb::DoubleGrid,
+                                        openvdb::Vec3DGrid, openvdb::Int64Grid>;
+
+// Grids indexed by voxel are cut into parts; the others (the phase table, the exemplar grids indexed
+// by block) are the same in every part.
+inline bool isVoxelIndexed(const std::string& name) {
+  return name != grid_names::kPhaseTable && !isBlockIndexedGridName(name);
+}
 
 // [x0, x1): a slab's fine voxel columns.
 using SlabRange = std::pair<int, int>;

@@ -2,6 +2,7 @@
 
 #include "libvdbappear/io/atomic_file.h"
 #include "libvdbappear/io/mapped_pages.h"
+#include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/medium_validate.h"
 #include "libvdbappear/io/vdb_read_error.h"
 #include "libvdbappear/io/vdb_writer.h"
@@ -22,10 +23,6 @@
 namespace vdbappear {
 
 namespace {
-
-// The value types a spilled grid may hold: the contract's and the usual foreign ones.
-using SpillGridTypes = openvdb::TypeList<openvdb::FloatGrid, openvdb::Vec3SGrid, openvdb::Int32Grid, openvdb::DoubleGrid,
-                                         openvdb::Vec3DGrid, openvdb::Int64Grid>;
 
 // Leaves read between two givings-back of the scratch files' mapped pages.
 constexpr std::size_t kLeavesPerRelease = 4096;
@@ -202,8 +199,6 @@ class LeafByLeafArchive : public openvdb::io::Archive {
   }
 };
 
-bool isVoxelIndexed(const std::string& name) { return name != grid_names::kPhaseTable && !isBlockIndexedGridName(name); }
-
 }  // namespace
 
 SpilledMedium::SpilledMedium(const std::string& output) : scratch_(std::make_shared<Scratch>()) {
@@ -240,7 +235,7 @@ void SpilledMedium::add(const Medium& part, const std::string& source) {
   const auto spilled = [&](const openvdb::GridBase::ConstPtr& grid) -> openvdb::GridBase::Ptr {
     if (!isVoxelIndexed(grid->getName())) return openvdb::ConstPtrCast<openvdb::GridBase>(grid);
     openvdb::GridBase::Ptr result;
-    on_scratch.at(grid->getName())->apply<SpillGridTypes>([&](auto& on_file) {
+    on_scratch.at(grid->getName())->apply<SlabGridTypes>([&](auto& on_file) {
       using TreeT = typename std::decay_t<decltype(on_file)>::TreeType;
       result = std::make_shared<LeafByLeafGrid<TreeT>>(on_file, scratch_);
     });
@@ -268,7 +263,7 @@ void SpilledMedium::add(const Medium& part, const std::string& source) {
     const auto found = on_scratch.find(grid->getName());
     if (found == on_scratch.end() || found->second->type() != grid->type())
       throw MediumError(fmt::format("{}: grid '{}' is not in every part, or not of one type", source, grid->getName()));
-    openvdb::ConstPtrCast<openvdb::GridBase>(grid)->apply<SpillGridTypes>([&](auto& whole_grid) {
+    openvdb::ConstPtrCast<openvdb::GridBase>(grid)->apply<SlabGridTypes>([&](auto& whole_grid) {
       using GridT = std::decay_t<decltype(whole_grid)>;
       moveLeavesAndTiles(static_cast<GridT&>(*found->second).tree(), whole_grid.tree());
     });
@@ -288,7 +283,7 @@ bool isValidatedInParts(const Medium& medium) {
   for (const auto& grid : medium.grids()) {
     if (!isVoxelIndexed(grid->getName())) continue;
     bool spilled = false;
-    grid->apply<SpillGridTypes>([&](const auto& typed) {
+    grid->apply<SlabGridTypes>([&](const auto& typed) {
       using TreeT = typename std::decay_t<decltype(typed)>::TreeType;
       spilled = dynamic_cast<const LeafByLeafGrid<TreeT>*>(&typed) != nullptr;
     });
