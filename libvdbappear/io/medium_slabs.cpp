@@ -2,10 +2,11 @@
 
 #include "libvdbappear/io/grid_presets.h"
 #include "libvdbappear/io/mapped_grids.h"
-#include "libvdbappear/io/mapped_pages.h"
+#include "libvdbappear/io/mapped_vdb_file.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_of_grids.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/slab_tree_index.h"
 #include "libvdbappear/io/vdb_read_error.h"
 #include "libvdbappear/math/block_index.h"
 #include "libvdbappear/util/error.h"
@@ -13,8 +14,6 @@
 #include <fmt/format.h>
 #include <openvdb/tools/Count.h>
 #include <openvdb/util/logging.h>
-
-#include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -38,57 +37,19 @@ std::uint64_t leafBytesOf(const GridT&) {
   return sizeof(LeafT) + LeafT::SIZE * sizeof(typename GridT::ValueType);
 }
 
-// The grid's leaf origins sorted by x, and its tiles as a grid of their own (null if none).
+// The slab's tiles, cut from the grid's tiles above the leaf level (active, or inactive with another
+// value than the background) to [x0, x1).
 template <typename GridT>
-void findPieces(const GridT& grid, std::vector<openvdb::Coord>& leaves, openvdb::GridBase::Ptr& tiles) {
-  for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf->origin());
-  std::stable_sort(leaves.begin(), leaves.end(), [](const auto& a, const auto& b) { return a.x() < b.x(); });
-  typename GridT::Ptr found;
-  auto tile = grid.tree().cbeginValueAll();
+void cutTiles(GridT& slab, const GridT& tiles, const SlabRange& range) {
+  auto tile = tiles.tree().cbeginValueAll();
   tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
   for (; tile; ++tile) {
-    if (!tile.isValueOn() && *tile == grid.background()) continue;
-    if (!found) found = GridT::create(grid.background());
-    found->tree().fill(tile.getBoundingBox(), *tile, tile.isValueOn());
-  }
-  tiles = found;
-}
-
-// The grid's part in [x0, x1): its leaves there moved out of `grid` (still on the file), its tiles
-// cut to the slab.
-template <typename GridT>
-typename GridT::Ptr takeSlab(GridT& grid, const std::vector<openvdb::Coord>& leaves, const GridT* tiles,
-                             const SlabRange& range) {
-  using LeafT = typename GridT::TreeType::LeafNodeType;
-  auto slab = GridT::create(grid.background());
-  for (auto meta = grid.beginMeta(); meta != grid.endMeta(); ++meta) slab->insertMeta(meta->first, *meta->second);
-  slab->setTransform(grid.transform().copy());
-  auto first = std::lower_bound(leaves.begin(), leaves.end(), range.first, [](const auto& c, int x) { return c.x() < x; });
-  for (; first != leaves.end() && first->x() < range.second; ++first)
-    slab->tree().addLeaf(grid.tree().root().template stealNode<LeafT>(*first, grid.background(), false));
-  if (!tiles) return slab;
-  auto tile = tiles->tree().cbeginValueAll();
-  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
-  for (; tile; ++tile) {
-    if (!tile.isValueOn() && *tile == grid.background()) continue;
+    if (!tile.isValueOn() && *tile == slab.background()) continue;
     openvdb::CoordBBox box;
     tile.getBoundingBox(box);
     box.min().x() = std::max(box.min().x(), range.first);
     box.max().x() = std::min(box.max().x(), range.second - 1);
-    if (box.min().x() <= box.max().x()) slab->tree().fill(box, *tile, tile.isValueOn());
-  }
-  return slab;
-}
-
-// Every leaf of the slab read from the file now, in parallel (decompression dominates), so that a
-// damaged file fails here, naming the grid.
-template <typename GridT>
-void loadLeaves(GridT& grid, const std::string& path) {
-  try {
-    openvdb::tree::LeafManager<typename GridT::TreeType> leaves(grid.tree());
-    leaves.foreach([](typename GridT::TreeType::LeafNodeType& leaf, std::size_t) { leaf.buffer().data(); });
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, grid.getName(), vdbReadError(e)));
+    if (box.min().x() <= box.max().x()) slab.tree().fill(box, *tile, tile.isValueOn());
   }
 }
 
@@ -100,25 +61,26 @@ bool slabType(const openvdb::GridBase& grid) {
 // and what stays in memory throughout (each leaf's node on the input file's side, and on the output's
 // scratch files' side: io/spilled_medium.h), for one grid.
 template <typename GridT>
-void addGridBytes(const GridT& grid, const std::vector<openvdb::Coord>& leaves, const GridT* tiles, int band,
-                  std::map<int, std::uint64_t>& band_bytes, std::uint64_t& resident_bytes) {
+void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, std::map<int, std::uint64_t>& band_bytes,
+                  std::uint64_t& resident_bytes) {
   using TreeT = typename GridT::TreeType;
-  // An unread leaf: its node, masks and file reference, with the allocator's share (measured: 266
-  // and 284 bytes a leaf for the 1024^3 twill's density and albedo read with delayed loading).
+  // An output leaf whose values wait on disk: its node, masks and file reference, with the
+  // allocator's share (measured: 266 and 284 bytes a leaf for the 1024^3 twill's density and albedo
+  // read with OpenVDB's delayed loading).
   constexpr std::uint64_t kOnFileLeafBytes = 288;
   const std::uint64_t bytes = leafBytesOf(grid);
   std::set<openvdb::Coord> blocks;                       // the output's leaves
   std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
-  for (const openvdb::Coord& origin : leaves) {
+  index.forEachLeaf([&](const openvdb::Coord& origin) {
     const int b = floorDiv(origin.x(), band);
     for (const int log2 : {7, 12})  // the two internal levels: 128^3 and 4096^3 voxels
       if (nodes.insert({b, log2, blockOf(origin, openvdb::Coord(1 << log2))}).second)
         band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
     band_bytes[b] += bytes;
-    resident_bytes += kOnFileLeafBytes;
     if (blocks.insert(blockOf(origin, openvdb::Coord(band))).second) band_bytes[b] += bytes;  // its output leaf
-  }
-  if (tiles) {
+  });
+  resident_bytes += index.memoryBytes();
+  if (const auto* tiles = static_cast<const GridT*>(index.tiles().get())) {
     auto tile = tiles->tree().cbeginValueAll();
     tile.setMaxDepth(TreeT::ValueAllCIter::LEAF_DEPTH - 1);
     for (; tile; ++tile) {  // a tile's part in a band, as leaves
@@ -151,54 +113,70 @@ std::vector<SlabRange> packSlabs(const std::map<int, std::uint64_t>& band_bytes,
   return slabs;
 }
 
+// A voxel-indexed grid's stand-in where only its name, type and whether it holds a voxel matter
+// (the grid mapping's checks and notes): its header, with one active voxel if the grid has any.
+openvdb::GridBase::Ptr standIn(const openvdb::GridBase& header, const SlabTreeIndex& index) {
+  openvdb::GridBase::Ptr grid = header.copyGridWithNewTree();
+  if (index.activeVoxelCount() > 0)
+    grid->apply<SlabGridTypes>([](auto& typed) { typed.tree().setValueOn(openvdb::Coord(0), typed.background()); });
+  return grid;
+}
+
 }  // namespace
 
 MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : path_(path) {
   openvdb::initialize();
-  // A damaged file fails the delayed open with a MediumError below; OpenVDB's own error log of it
-  // (log4cplus, not configured here) would add a line that says only that no logger is configured.
+  // A damaged file fails with a MediumError below; OpenVDB's own log of it (log4cplus, not
+  // configured here) would add a line that says only that no logger is configured.
   openvdb::logging::setLevel(openvdb::logging::Level::Fatal);
   std::error_code error;
   if (!std::filesystem::exists(path, error)) throw MediumError(fmt::format("{}: no such file", path));
   if (std::filesystem::is_directory(path, error)) throw MediumError(fmt::format("{}: is a directory", path));
-  openvdb::io::File file(path);
-  file.setCopyMaxBytes(0);  // map the file itself, not a private copy (the input is never modified)
-  const std::vector<std::string> names = openGridNames(file, path, /*delay_load=*/true);
-  metadata_ = file.getMetadata();
-  for (const auto& name : names) {
+  file_ = std::make_unique<MappedVdbFile>(path);
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < file_->gridCount(); ++i) names.push_back(file_->descriptor(i).gridName());
+  checkGridNames(names, path);
+  metadata_ = std::make_shared<openvdb::MetaMap>(file_->metadata());
+  why_not_ = file_->whyNotInParts();
+  for (std::size_t i = 0; i < file_->gridCount() && !why_not_; ++i)
+    if (!slabType(*file_->header(i)))
+      why_not_ = fmt::format("grid '{}' holds {} values", names[i], file_->header(i)->valueType());
+  if (why_not_) return;
+  indices_.resize(file_->gridCount());
+  for (std::size_t i = 0; i < file_->gridCount(); ++i) {
     try {
-      grids_.push_back(file.readGrid(name));
+      if (isVoxelIndexed(names[i])) {
+        indices_[i] = std::make_unique<SlabTreeIndex>(*file_, i);
+        grids_.push_back(file_->header(i)->copyGridWithNewTree());
+      } else {
+        grids_.push_back(file_->readWhole(i));
+      }
     } catch (const std::exception& e) {
-      throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, name, vdbReadError(e)));
+      throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], vdbReadError(e)));
     }
+    file_->releasePages();
   }
   // A mapping makes grids from whole source grids: such a file is read whole (readMedium).
-  const auto odd = std::find_if(grids_.begin(), grids_.end(), [](const auto& g) { return !slabType(*g); });
-  if (odd != grids_.end()) {
-    why_not_ = fmt::format("grid '{}' holds {} values", (*odd)->getName(), (*odd)->valueType());
-  } else if (!mapping.rules.empty()) {
+  openvdb::GridPtrVec stand_ins;
+  for (std::size_t i = 0; i < grids_.size(); ++i) stand_ins.push_back(indices_[i] ? standIn(*grids_[i], *indices_[i]) : grids_[i]);
+  if (!mapping.rules.empty()) {
     why_not_ = "--grid rules apply to it";
-  } else if (!presetRules(grids_, mapping.preset, {}).empty()) {
+  } else if (!presetRules(stand_ins, mapping.preset, {}).empty()) {
     why_not_ = "a preset maps its grids (--from none reads them as they are)";
   } else {
-    notes_ = applyGridMapping(grids_, mapping, path).notes;  // names and topology only: nothing is read
+    notes_ = applyGridMapping(stand_ins, mapping, path).notes;  // names, and whether a grid holds voxels
   }
-  pieces_.resize(grids_.size());
-  for (std::size_t i = 0; i < grids_.size() && !why_not_; ++i)
-    if (isVoxelIndexed(grids_[i]->getName()))
-      grids_[i]->apply<SlabGridTypes>([&](const auto& grid) { findPieces(grid, pieces_[i].leaves, pieces_[i].tiles); });
 }
+
+MediumSlabs::~MediumSlabs() = default;
 
 MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes) const {
   std::map<int, std::uint64_t> band_bytes;  // band index -> bytes of its leaves, every voxel grid
   Plan plan;
   for (std::size_t i = 0; i < grids_.size(); ++i)
-    if (isVoxelIndexed(grids_[i]->getName()))
-      grids_[i]->apply<SlabGridTypes>([&](const auto& grid) {
-        using GridT = std::decay_t<decltype(grid)>;
-        addGridBytes(grid, pieces_[i].leaves, static_cast<const GridT*>(pieces_[i].tiles.get()), band, band_bytes,
-                     plan.resident_bytes);
-      });
+    if (indices_[i])
+      grids_[i]->apply<SlabGridTypes>(
+          [&](const auto& grid) { addGridBytes(grid, *indices_[i], band, band_bytes, plan.resident_bytes); });
   for (const auto& entry : band_bytes) plan.largest_band_bytes = std::max(plan.largest_band_bytes, entry.second);
   const std::uint64_t free_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
   if (plan.largest_band_bytes > free_bytes) return plan;  // no slabs: one band does not fit
@@ -207,19 +185,26 @@ MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::u
 }
 
 MediumPtr MediumSlabs::slab(const SlabRange& range) {
-  releaseMappedPages({path_});  // the slabs before this one are read and freed
+  file_->releasePages();
+  const openvdb::CoordBBox box(openvdb::Coord(range.first, openvdb::Coord::min().y(), openvdb::Coord::min().z()),
+                               openvdb::Coord(range.second - 1, openvdb::Coord::max().y(), openvdb::Coord::max().z()));
   openvdb::GridPtrVec grids;
   for (std::size_t i = 0; i < grids_.size(); ++i) {
-    if (!isVoxelIndexed(grids_[i]->getName())) {
+    if (!indices_[i]) {
       grids.push_back(grids_[i]->deepCopyGrid());
       continue;
     }
-    grids_[i]->apply<SlabGridTypes>([&](auto& grid) {
+    openvdb::GridBase::Ptr part;
+    try {
+      part = indices_[i]->readLeaves(box);
+    } catch (const std::exception& e) {
+      throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path_, grids_[i]->getName(), vdbReadError(e)));
+    }
+    part->apply<SlabGridTypes>([&](auto& grid) {
       using GridT = std::decay_t<decltype(grid)>;
-      auto part = takeSlab(grid, pieces_[i].leaves, static_cast<const GridT*>(pieces_[i].tiles.get()), range);
-      loadLeaves(*part, path_);
-      grids.push_back(part);
+      if (const auto* tiles = static_cast<const GridT*>(indices_[i]->tiles().get())) cutTiles(grid, *tiles, range);
     });
+    grids.push_back(part);
   }
   for (const auto& grid : grids) validateGridPart(*grid, path_, /*whole=*/false);
   for (const auto& grid : grids)
