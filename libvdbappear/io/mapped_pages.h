@@ -1,6 +1,6 @@
 #pragma once
 // The pages of memory-mapped files that this process has touched count in its resident memory until
-// they are given back; OpenVDB's delayed loading maps files (io/medium_slabs.h, io/spilled_medium.h).
+// they are given back; OpenVDB's delayed loading maps files (the scratch files of io/spilled_medium.h).
 
 #include <string>
 #include <vector>

@@ -25,6 +25,23 @@ namespace vdbappear {
 
 namespace {
 
+// Opens `file` and lists its grids' names, checked; MediumError naming `path` for a file OpenVDB
+// cannot read.
+std::vector<std::string> openGridNames(openvdb::io::File& file, const std::string& path) {
+  std::vector<std::string> names;
+  try {
+    file.open(/*delayLoad=*/false);
+    for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
+  } catch (const std::exception& e) {
+    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
+  }
+  std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
+  for (const auto& name : names)
+    base_names.push_back(openvdb::io::GridDescriptor::stripSuffix(openvdb::io::GridDescriptor::stringAsUniqueName(name)));
+  checkGridNames(base_names, path);
+  return names;
+}
+
 constexpr const char* kStdio = "-";
 
 struct VdbContents {
@@ -43,7 +60,7 @@ VdbContents readVdbFile(const std::string& path) {
   std::vector<std::string> names;
   {
     openvdb::io::File file(path);
-    names = openGridNames(file, path, /*delay_load=*/false);
+    names = openGridNames(file, path);
     contents.metadata = file.getMetadata();
   }
 
@@ -170,20 +187,6 @@ void checkGridNames(std::vector<std::string> names, const std::string& source) {
     throw MediumError(fmt::format("{}: grid '{}': appears more than once", source, *repeated));
 }
 
-std::vector<std::string> openGridNames(openvdb::io::File& file, const std::string& path, bool delay_load) {
-  std::vector<std::string> names;
-  try {
-    file.open(delay_load);
-    for (auto name = file.beginName(); name != file.endName(); ++name) names.push_back(*name);
-  } catch (const std::exception& e) {
-    throw MediumError(fmt::format("{}: not a readable VDB file ({})", path, vdbReadError(e)));
-  }
-  std::vector<std::string> base_names;  // OpenVDB lists a repeated name as "name[0]", "name[1]", ...
-  for (const auto& name : names)
-    base_names.push_back(openvdb::io::GridDescriptor::stripSuffix(openvdb::io::GridDescriptor::stringAsUniqueName(name)));
-  checkGridNames(base_names, path);
-  return names;
-}
 
 MediumPtr mediumOfGrids(openvdb::GridPtrVec grids, openvdb::MetaMap::Ptr metadata, const GridMapping& mapping,
                         const std::string& source) {

@@ -5,7 +5,6 @@
 #include "libvdbappear/io/grid_mapping.h"
 #include "libvdbappear/io/medium_file.h"
 
-#include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
 #include <string>
@@ -15,10 +14,6 @@ namespace vdbappear {
 
 // Every grid has a name, and no name appears twice; MediumError names `source` otherwise.
 void checkGridNames(std::vector<std::string> names, const std::string& source);
-
-// Opens `file` (delayed loading: leaf values are read when first used) and lists its grids' names,
-// checked; MediumError naming `path` for a file OpenVDB cannot read.
-std::vector<std::string> openGridNames(openvdb::io::File& file, const std::string& path, bool delay_load);
 
 // The medium of grids that each passed validateGrid: mapped, sorted into roles, checked across grids.
 MediumPtr mediumOfGrids(openvdb::GridPtrVec grids, openvdb::MetaMap::Ptr metadata, const GridMapping& mapping,

@@ -98,32 +98,83 @@ using DelayedLoadGridTypes = openvdb::TypeList<openvdb::Int32Grid, openvdb::Int6
                                                openvdb::DoubleGrid, openvdb::Vec3IGrid, openvdb::Vec3SGrid,
                                                openvdb::Vec3DGrid>;
 
-// The file's delayed-loading metadata of `grid` (per leaf, in the order the leaves are written: how
-// its inactive values are compressed and, with blosc or zip, its compressed size), what OpenVDB's
-// writer computes, but from copies of the leaves read a few thousand at a time.
+// A leaf's entry in the file's delayed-loading metadata: how its inactive values are compressed
+// and, with blosc or zip, its compressed size and the 8 bytes that say it (what io::Archive::writeGrid
+// computes).
+template <typename LeafT>
+std::pair<std::int8_t, std::int64_t> delayedLoadEntry(const LeafT& leaf, const typename LeafT::ValueType& background,
+                                                      bool to_half, std::uint32_t compression) {
+  using MaskT = typename LeafT::NodeMaskType;
+  const openvdb::io::MaskCompress<typename LeafT::ValueType, MaskT> inactive(leaf.valueMask(), MaskT(), leaf.buffer().data(),
+                                                                             background);
+  if (!(compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP))) return {inactive.metadata, 0};
+  return {inactive.metadata, std::int64_t(openvdb::io::writeCompressedValuesSize(
+                                 leaf.buffer().data(), LeafT::SIZE, leaf.valueMask(), inactive.metadata, to_half, compression)) + 8};
+}
+
+// That entry, computed when a part is spilled (its values in memory) for the compression the whole
+// is written with, kept in the leaf's transient data (LeafNode::setTransientData: never written to a
+// file) until the write, which then reads no leaf for it: set bit, half-float bit, the inactive
+// values' compression (3 bits) and the size (24 bits; a leaf of 512 Vec3d is 12 KB).
+struct SpilledLeafEntry {
+  static constexpr openvdb::Index32 kSet = 1u << 31, kHalf = 1u << 30;
+  static std::uint32_t compression() { return openvdb::io::Archive::DEFAULT_COMPRESSION_FLAGS; }  // LeafByLeafArchive's
+  static openvdb::Index32 pack(const std::pair<std::int8_t, std::int64_t>& entry, bool half) {
+    if (entry.first < 0 || entry.first > 7 || entry.second < 0 || entry.second >= (1 << 24)) return 0;
+    return kSet | (half ? kHalf : 0) | (openvdb::Index32(entry.first) << 24) | openvdb::Index32(entry.second);
+  }
+  static bool holds(openvdb::Index32 tag, bool half) { return (tag & kSet) && bool(tag & kHalf) == half; }
+  static std::int8_t mask(openvdb::Index32 tag) { return std::int8_t((tag >> 24) & 7); }
+  static std::int64_t size(openvdb::Index32 tag) { return std::int64_t(tag & ((1u << 24) - 1)); }
+};
+
+// Each leaf read back from a part's scratch file gets its entry, from the part's leaf in memory.
+template <typename GridT>
+void tagSpilledLeaves(const GridT& in_memory, GridT& read_back) {
+  using LeafT = typename GridT::TreeType::LeafNodeType;
+  std::vector<const LeafT*> leaves;
+  for (auto leaf = in_memory.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
+  const bool half = in_memory.saveFloatAsHalf();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i)
+      if (LeafT* target = read_back.tree().probeLeaf(leaves[i]->origin()))  // no value is read
+        target->setTransientData(SpilledLeafEntry::pack(
+            delayedLoadEntry(*leaves[i], in_memory.background(), half, SpilledLeafEntry::compression()), half));
+  });
+}
+
+// The file's delayed-loading metadata of `grid` (per leaf, in the order the leaves are written),
+// from the entries computed when the leaves were spilled, or else from copies of the leaves read a
+// few thousand at a time.
 template <typename GridT>
 void fillDelayedLoadMetadata(openvdb::io::DelayedLoadMetadata& metadata, const GridT& grid, std::uint32_t compression,
                              const std::vector<std::string>& scratch_files) {
   using LeafT = typename GridT::TreeType::LeafNodeType;
-  using MaskT = typename LeafT::NodeMaskType;
   std::vector<const LeafT*> leaves;
   for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
   if (leaves.empty()) return;
   const bool sized = compression & (openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ZIP);
+  const bool half = grid.saveFloatAsHalf();
   metadata.resizeMask(leaves.size());
   if (sized) metadata.resizeCompressedSize(leaves.size());
+  const bool tagged = compression == SpilledLeafEntry::compression() &&
+                      std::all_of(leaves.begin(), leaves.end(),
+                                  [half](const LeafT* leaf) { return SpilledLeafEntry::holds(leaf->transientData(), half); });
+  if (tagged) {
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+      metadata.setMask(i, SpilledLeafEntry::mask(leaves[i]->transientData()));
+      if (sized) metadata.setCompressedSize(i, SpilledLeafEntry::size(leaves[i]->transientData()));
+    }
+    return;
+  }
   for (std::size_t first = 0; first < leaves.size(); first += kLeavesPerRelease) {
     const std::size_t last = std::min(leaves.size(), first + kLeavesPerRelease);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last), [&](const auto& range) {
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const LeafT copy(*leaves[i]);
-        const openvdb::io::MaskCompress<typename GridT::ValueType, MaskT> inactive(copy.valueMask(), MaskT(),
-                                                                                 copy.buffer().data(), grid.background());
-        metadata.setMask(i, inactive.metadata);
-        if (sized)  // the chunk's size, and the 8 bytes that say it
-          metadata.setCompressedSize(i, openvdb::io::writeCompressedValuesSize(copy.buffer().data(), LeafT::SIZE,
-                                                                              copy.valueMask(), inactive.metadata,
-                                                                              grid.saveFloatAsHalf(), compression) + 8);
+        const auto entry = delayedLoadEntry(copy, grid.background(), half, compression);
+        metadata.setMask(i, entry.first);
+        if (sized) metadata.setCompressedSize(i, entry.second);
       }
     });
     releaseMappedPages(scratch_files);
@@ -233,6 +284,13 @@ void SpilledMedium::add(const Medium& part, const std::string& source) {
   }
   scratch_->files.push_back(scratch.temporaryPath());
   for (const auto& entry : on_scratch) scratch_->read_back.push_back(entry.second);
+  for (const auto& grid : voxel_grids) {  // the write's delayed-loading metadata, while the values are in memory
+    const auto found = on_scratch.find(grid->getName());
+    if (found == on_scratch.end() || found->second->type() != grid->type()) continue;
+    grid->apply<DelayedLoadGridTypes>([&](const auto& typed) {
+      tagSpilledLeaves(typed, static_cast<std::decay_t<decltype(typed)>&>(*found->second));
+    });
+  }
 
   // The grid that stands for `grid` in the whole: its leaves on the scratch file, or `grid` itself.
   const auto spilled = [&](const openvdb::GridBase::ConstPtr& grid) -> openvdb::GridBase::Ptr {

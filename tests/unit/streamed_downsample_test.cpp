@@ -177,6 +177,14 @@ TEST(StreamedDownsample, TheCoarseSlabsWaitOnDiskAndAreWrittenLeafByLeaf) {
   EXPECT_EQ(streamed->result.medium->density->tree().leafCount(), leaves);
   EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(out)));
   EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"in.vdb", "slabs.vdb", "whole.vdb"}));
+  // Byte for byte the file OpenVDB's writer writes (its table of leaf sizes included, computed here
+  // when each slab was spilled), but for the header's random UUID (36 bytes from byte 21).
+  const std::string whole_bytes = test::readFileBytes(dir.path("whole.vdb")), slab_bytes = test::readFileBytes(out);
+  ASSERT_EQ(whole_bytes.size(), slab_bytes.size());
+  std::size_t differ = 0;
+  while (differ < whole_bytes.size() && (whole_bytes[differ] == slab_bytes[differ] || (differ >= 21 && differ < 57))) ++differ;
+  EXPECT_EQ(differ, whole_bytes.size()) << "the files differ from byte " << differ << ": '"
+                                        << whole_bytes.substr(differ, 40) << "' against '" << slab_bytes.substr(differ, 40) << "'";
 }
 
 // Made under a budget that sends it to disk in many slabs, a twill is the twill made whole, grid for
