@@ -58,8 +58,8 @@ bench: build
 	@scripts/bench_downsample.py --build $(BUILD_DIR)
 
 # Media larger than memory (issue 28): time and peak memory against active voxels at 256^3, 512^3,
-# 1024^3 (the whole read of 1024^3 takes 21.5 GB) and 1792^3 (1.2 billion active voxels, a 20 GB file
-# made and removed), with OpenVDB's vdb_lod as the peer. About 50 minutes on 2 cores.
+# 1024^3 (the whole read of 1024^3 takes 21.5 GB) and 1792^3 (1.06 billion active voxels, a 15.7 GB
+# file made and removed), with OpenVDB's vdb_lod as the peer. About 45 minutes on 2 cores.
 bench-scale: build
 	@scripts/bench_scale.py --build $(BUILD_DIR)
 

@@ -11,10 +11,10 @@ For each size N (default 256, 512, 1024 and 1792), the twill `vdb_make_medium tw
   vdb_lod -range 1 on the density grid      OpenVDB's own tool, the peer (Debian's libopenvdb-tools; it reads
                                             the grid whole, as does the vdb_lod that cuts the density out:
                                             up to --whole-max)
-The 1792^3 twill is the medium of at least 10^9 active voxels that the issue asks for (1.19 billion; a
-file of about 20 GB made in about half an hour on 2 cores): read whole it would take some 120 GB, so
-only the slab downsample runs at that size. --sizes 256,512,1024 leaves it out (about 11 minutes in
-all instead of about 50). Media are made in --out and removed at the end unless --keep.
+The 1792^3 twill is the medium of at least 10^9 active voxels that the issue asks for (1.06 billion; a
+15.7 GB file made in 27 minutes on 2 cores, at 5.9 GB): read whole it would take some 110 GB, so only
+the slab downsample runs at that size. --sizes 256,512,1024 leaves it out (about 11 minutes in all
+instead of about 45). Media are made in --out and removed at the end unless --keep.
 
 Writes bench-out/scale.md (a table) and bench-out/scale.png (log-log: seconds and GB against active
 voxels), and bench-out/scale.json.
