@@ -3,6 +3,7 @@
 #include "libvdbappear/io/medium_slabs.h"
 
 #include <openvdb/io/Compression.h>
+#include <openvdb/io/DelayedLoadMetadata.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -38,10 +39,10 @@ SlabTreeIndex::SlabTreeIndex(const MappedVdbFile& file, std::size_t grid) : file
 }
 
 // The tree's topology as Tree, RootNode and InternalNode::readTopology read it (file format 222 and
-// later), the upper internal nodes by hand and each lower one by OpenVDB, freed once noted; a second
-// stream seeks over each lower node's leaf values as InternalNode::readBuffers does, so that where
-// each x slice of them begins is known. With the file's table of leaf sizes the seeks read nothing;
-// without it they read each leaf's few header bytes.
+// later), the upper internal nodes by hand and each lower one by OpenVDB, freed once noted; then a
+// second stream seeks over each lower node's leaf values as InternalNode::readBuffers does, so that
+// where each x slice of them begins is known. With the file's table of leaf sizes the seeks read
+// nothing; without it they read each leaf's few header bytes (pages given back as it goes).
 template <typename GridT>
 void SlabTreeIndex::walk(const GridT& header) {
   using ValueT = typename GridT::ValueType;
@@ -92,7 +93,6 @@ void SlabTreeIndex::walk(const GridT& header) {
       addTile(openvdb::CoordBBox::createCube(slotOrigin<Node5>(origin5, off.pos()), Node4::DIM), slot_values[off.pos()],
               value_mask.isOn(off.pos()));
     for (auto on = child_mask.beginOn(); on; ++on) {  // the lower internal nodes, one at a time
-      if (nodes_.size() % 256 == 255) file_->releasePages();  // what a seek over values without sizes read
       Node entry;
       entry.origin = slotOrigin<Node5>(origin5, on.pos());
       entry.topology_position = in.tellg();
@@ -103,19 +103,34 @@ void SlabTreeIndex::walk(const GridT& header) {
       for (auto tile = node.cbeginValueAll(); tile; ++tile)
         addTile(openvdb::CoordBBox::createCube(tile.getCoord(), Node4::ChildNodeType::DIM), *tile, tile.isValueOn());
       for (auto leaf = node.cbeginChildOn(); leaf; ++leaf) active_voxels_ += leaf->onVoxelCount();
-      int slice = 0;  // seek over each leaf's values (LeafNode::readBuffers outside every box)
-      for (auto leaf = node.beginChildOn(); leaf; ++leaf) {
-        for (; slice <= int(leaf.pos() >> 8); ++slice) entry.slice_position[slice] = values->in.tellg();
-        leaf->readBuffers(values->in, openvdb::CoordBBox(), from_half);
-      }
-      for (; slice <= 16; ++slice) entry.slice_position[slice] = values->in.tellg();
       leaf_count_ += entry.leaves.countOn();
       nodes_.push_back(entry);
     }
   }
-  if (in.tellg() != file_->blockPosition(grid_) || values->in.tellg() != file_->endPosition(grid_))
-    throw std::runtime_error("its topology or values do not end where the file says: damaged");
+  if (in.tellg() != file_->blockPosition(grid_)) throw std::runtime_error("its topology does not end where the file says: damaged");
   tiles_ = tiles;
+
+  // The values, node by node (each node's topology read again for its leaves' masks), seeking over
+  // each leaf as LeafNode::readBuffers does outside every box. The file's table of leaf sizes, where
+  // used, is first made as long as the grid has leaves: OpenVDB indexes it unchecked.
+  if (auto table = values->metadata->gridMetadata().getMetadata<openvdb::io::DelayedLoadMetadata>(
+          openvdb::GridBase::META_FILE_DELAYED_LOAD)) {
+    table->resizeMask(leaf_count_);
+    table->resizeCompressedSize(leaf_count_);
+  }
+  for (Node& entry : nodes_) {
+    in.seekg(entry.topology_position);
+    Node4 node(openvdb::PartialCreate(), entry.origin, background);
+    node.readTopology(in, from_half);
+    int slice = 0;
+    for (auto leaf = node.beginChildOn(); leaf; ++leaf) {
+      for (; slice <= int(leaf.pos() >> 8); ++slice) entry.slice_position[slice] = values->in.tellg();
+      leaf->readBuffers(values->in, openvdb::CoordBBox(), from_half);
+    }
+    for (; slice <= 16; ++slice) entry.slice_position[slice] = values->in.tellg();
+    if ((&entry - nodes_.data()) % 64 == 63) file_->releasePages();
+  }
+  if (values->in.tellg() != file_->endPosition(grid_)) throw std::runtime_error("its values do not end where the file says: damaged");
 }
 
 void SlabTreeIndex::forEachLeaf(const std::function<void(const openvdb::Coord&)>& f) const {
