@@ -216,18 +216,6 @@ std::unique_ptr<GridStream> MappedVdbFile::tagged(std::size_t index, const char*
   return stream;
 }
 
-openvdb::GridBase::Ptr MappedVdbFile::readWhole(std::size_t index) const {
-  const Grid& grid = grids_[index];
-  auto stream = this->stream(index, /*with_leaf_sizes=*/true);
-  stream->in.exceptions(std::ios_base::failbit | std::ios_base::badbit);
-  openvdb::GridBase::Ptr whole = grid.header->copyGridWithNewTree();
-  whole->readTopology(stream->in);
-  whole->readBuffers(stream->in);
-  if (stream->in.tellg() != grid.descriptor.getEndPos())
-    throw std::runtime_error("its data do not end where the file says");
-  return whole;
-}
-
 void MappedVdbFile::releasePages() const {
   ::madvise(const_cast<char*>(data_), size_, MADV_DONTNEED);
 }

@@ -81,9 +81,6 @@ class MappedVdbFile {
   std::streamoff blockPosition(std::size_t grid) const { return grids_[grid].descriptor.getBlockPos(); }
   std::streamoff endPosition(std::size_t grid) const { return grids_[grid].descriptor.getEndPos(); }
 
-  // The grid read whole (for the small grids that every part needs).
-  openvdb::GridBase::Ptr readWhole(std::size_t grid) const;
-
   // Gives back the pages of the file read so far: read again, they come from the page cache.
   void releasePages() const;
 

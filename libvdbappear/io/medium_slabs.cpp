@@ -37,22 +37,6 @@ std::uint64_t leafBytesOf(const GridT&) {
   return sizeof(LeafT) + LeafT::SIZE * sizeof(typename GridT::ValueType);
 }
 
-// The slab's tiles, cut from the grid's tiles above the leaf level (active, or inactive with another
-// value than the background) to [x0, x1).
-template <typename GridT>
-void cutTiles(GridT& slab, const GridT& tiles, const SlabRange& range) {
-  auto tile = tiles.tree().cbeginValueAll();
-  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
-  for (; tile; ++tile) {
-    if (!tile.isValueOn() && *tile == slab.background()) continue;
-    openvdb::CoordBBox box;
-    tile.getBoundingBox(box);
-    box.min().x() = std::max(box.min().x(), range.first);
-    box.max().x() = std::min(box.max().x(), range.second - 1);
-    if (box.min().x() <= box.max().x()) slab.tree().fill(box, *tile, tile.isValueOn());
-  }
-}
-
 bool slabType(const openvdb::GridBase& grid) {
   return grid.apply<SlabGridTypes>([](const auto&) {});
 }
@@ -149,7 +133,7 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
         indices_[i] = std::make_unique<SlabTreeIndex>(*file_, i);
         grids_.push_back(file_->header(i)->copyGridWithNewTree());
       } else {
-        grids_.push_back(file_->readWhole(i));
+        grids_.push_back(SlabTreeIndex(*file_, i).readWhole());
       }
     } catch (const std::exception& e) {
       throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path, names[i], vdbReadError(e)));
@@ -200,10 +184,7 @@ MediumPtr MediumSlabs::slab(const SlabRange& range) {
     } catch (const std::exception& e) {
       throw MediumError(fmt::format("{}: grid '{}': cannot be read ({})", path_, grids_[i]->getName(), vdbReadError(e)));
     }
-    part->apply<SlabGridTypes>([&](auto& grid) {
-      using GridT = std::decay_t<decltype(grid)>;
-      if (const auto* tiles = static_cast<const GridT*>(indices_[i]->tiles().get())) cutTiles(grid, *tiles, range);
-    });
+    indices_[i]->addTiles(*part, box);
     grids.push_back(part);
   }
   for (const auto& grid : grids) validateGridPart(*grid, path_, /*whole=*/false);

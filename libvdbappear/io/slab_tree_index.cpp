@@ -31,6 +31,28 @@ openvdb::Coord slotOrigin(const openvdb::Coord& origin, openvdb::Index n) {
   return origin + (local << NodeT::ChildNodeType::TOTAL);
 }
 
+// A lower internal node's topology, read by OpenVDB's InternalNode::readTopology once walked through
+// here first: that reader cannot unwind (a read that throws midway, on a short or damaged file, leaves
+// child bits set over slots that hold no child, whose deletion the node's destructor then attempts).
+// The walk reads the masks and tile values and seeks over each leaf's value mask on the same stream,
+// which throws cleanly, and puts the stream back.
+template <typename NodeT>
+std::unique_ptr<NodeT> readNodeTopology(std::istream& in, const openvdb::Coord& origin,
+                                        const typename NodeT::ValueType& background, bool from_half) {
+  const std::streampos start = in.tellg();
+  typename NodeT::NodeMaskType child_mask, value_mask;
+  child_mask.load(in);
+  value_mask.load(in);
+  std::vector<typename NodeT::ValueType> values(NodeT::NUM_VALUES);
+  openvdb::io::readCompressedValues(in, values.data(), NodeT::NUM_VALUES, value_mask, from_half);
+  const std::streamoff leaf_mask_bytes = typename NodeT::ChildNodeType::NodeMaskType().memUsage();
+  in.seekg(std::streamoff(child_mask.countOn()) * leaf_mask_bytes, std::ios_base::cur);
+  in.seekg(start);
+  auto node = std::make_unique<NodeT>(openvdb::PartialCreate(), origin, background);
+  node->readTopology(in, from_half);
+  return node;
+}
+
 }  // namespace
 
 SlabTreeIndex::SlabTreeIndex(const MappedVdbFile& file, std::size_t grid) : file_(&file), grid_(grid) {
@@ -75,16 +97,18 @@ void SlabTreeIndex::walk(const GridT& header) {
   for (openvdb::Index n = 0; n < tile_count; ++n) {  // root tiles
     openvdb::Coord origin;
     ValueT value{};
-    bool active = false;
+    std::uint8_t active = 0;  // a bool in the file: any byte other than 0 reads as on
     in.read(reinterpret_cast<char*>(origin.asPointer()), 3 * sizeof(openvdb::Int32));
     readValue(in, value);
     readValue(in, active);
-    addTile(openvdb::CoordBBox::createCube(origin, Node5::DIM), value, active);
+    if (origin != (origin & ~(int(Node5::DIM) - 1))) throw std::runtime_error("a root tile off its grid of nodes: damaged");
+    addTile(openvdb::CoordBBox::createCube(origin, Node5::DIM), value, active != 0);
   }
   std::vector<ValueT> slot_values(Node5::NUM_VALUES);
   for (openvdb::Index c = 0; c < child_count; ++c) {  // the upper internal nodes
     openvdb::Coord origin5;
     in.read(reinterpret_cast<char*>(origin5.asPointer()), 3 * sizeof(openvdb::Int32));
+    if (origin5 != (origin5 & ~(int(Node5::DIM) - 1))) throw std::runtime_error("a node off its grid of nodes: damaged");
     typename Node5::NodeMaskType child_mask, value_mask;
     child_mask.load(in);
     value_mask.load(in);
@@ -96,13 +120,12 @@ void SlabTreeIndex::walk(const GridT& header) {
       Node entry;
       entry.origin = slotOrigin<Node5>(origin5, on.pos());
       entry.topology_position = in.tellg();
-      Node4 node(openvdb::PartialCreate(), entry.origin, background);
-      node.readTopology(in, from_half);
+      const auto node = readNodeTopology<Node4>(in, entry.origin, background, from_half);
       entry.topology_end = in.tellg();
-      entry.leaves = node.getChildMask();
-      for (auto tile = node.cbeginValueAll(); tile; ++tile)
+      entry.leaves = node->getChildMask();
+      for (auto tile = node->cbeginValueAll(); tile; ++tile)
         addTile(openvdb::CoordBBox::createCube(tile.getCoord(), Node4::ChildNodeType::DIM), *tile, tile.isValueOn());
-      for (auto leaf = node.cbeginChildOn(); leaf; ++leaf) active_voxels_ += leaf->onVoxelCount();
+      for (auto leaf = node->cbeginChildOn(); leaf; ++leaf) active_voxels_ += leaf->onVoxelCount();
       leaf_count_ += entry.leaves.countOn();
       nodes_.push_back(entry);
     }
@@ -120,10 +143,9 @@ void SlabTreeIndex::walk(const GridT& header) {
   }
   for (Node& entry : nodes_) {
     in.seekg(entry.topology_position);
-    Node4 node(openvdb::PartialCreate(), entry.origin, background);
-    node.readTopology(in, from_half);
+    const auto node = readNodeTopology<Node4>(in, entry.origin, background, from_half);
     int slice = 0;
-    for (auto leaf = node.beginChildOn(); leaf; ++leaf) {
+    for (auto leaf = node->beginChildOn(); leaf; ++leaf) {
       for (; slice <= int(leaf.pos() >> 8); ++slice) entry.slice_position[slice] = values->in.tellg();
       leaf->readBuffers(values->in, openvdb::CoordBBox(), from_half);
     }
@@ -143,6 +165,29 @@ void SlabTreeIndex::forEachLeaf(const std::function<void(const openvdb::Coord&)>
 
 std::uint64_t SlabTreeIndex::memoryBytes() const {
   return sizeof(*this) + nodes_.capacity() * sizeof(Node) + (tiles_ ? tiles_->memUsage() : 0);
+}
+
+void SlabTreeIndex::addTiles(openvdb::GridBase& part, const openvdb::CoordBBox& box) const {
+  if (!tiles_) return;
+  part.apply<SlabGridTypes>([&](auto& grid) {
+    using GridT = std::decay_t<decltype(grid)>;
+    const auto& tiles = static_cast<const GridT&>(*tiles_);
+    auto tile = tiles.tree().cbeginValueAll();
+    tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
+    for (; tile; ++tile) {
+      if (!tile.isValueOn() && *tile == grid.background()) continue;
+      openvdb::CoordBBox cut;
+      tile.getBoundingBox(cut);
+      cut.intersect(box);
+      if (!cut.empty()) grid.tree().fill(cut, *tile, tile.isValueOn());
+    }
+  });
+}
+
+openvdb::GridBase::Ptr SlabTreeIndex::readWhole() const {
+  openvdb::GridBase::Ptr whole = readLeaves(openvdb::CoordBBox::inf());
+  addTiles(*whole, openvdb::CoordBBox::inf());
+  return whole;
 }
 
 openvdb::GridBase::Ptr SlabTreeIndex::readLeaves(const openvdb::CoordBBox& box) const {
@@ -169,11 +214,10 @@ openvdb::GridBase::Ptr SlabTreeIndex::readLeavesOf(const GridT& header, const op
     std::vector<char> topology_bytes, value_bytes;
     for (std::size_t k = r.begin(); k != r.end(); ++k) {
       const Node& entry = *crossing[k];
-      auto node = std::make_unique<Node4>(openvdb::PartialCreate(), entry.origin, header.background());
       file_->read(entry.topology_position, entry.topology_end, topology_bytes);
       auto topology = file_->stream(grid_, topology_bytes);
       topology->in.exceptions(kStreamFailures);
-      node->readTopology(topology->in, from_half);
+      auto node = readNodeTopology<Node4>(topology->in, entry.origin, header.background(), from_half);
       const int x0 = int(std::clamp<std::int64_t>((std::int64_t(box.min().x()) - entry.origin.x()) >> 3, 0, 16));
       const int x1 = int(std::clamp<std::int64_t>(((std::int64_t(box.max().x()) - entry.origin.x()) >> 3) + 1, x0, 16));
       file_->read(entry.slice_position[x0], entry.slice_position[x1], value_bytes);

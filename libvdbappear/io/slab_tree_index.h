@@ -39,8 +39,12 @@ class SlabTreeIndex {
   std::uint64_t memoryBytes() const;
 
   // The grid (its metadata, transform and background) with its leaves in `box`, read from the file
-  // now; `box` holds whole leaves. Tiles are not included: cut tiles() to the part.
+  // now; `box` holds whole leaves. Tiles are not included: addTiles cuts them to the part.
   openvdb::GridBase::Ptr readLeaves(const openvdb::CoordBBox& box) const;
+  // Fills `part` (this grid's type) with tiles() cut to `box`.
+  void addTiles(openvdb::GridBase& part, const openvdb::CoordBBox& box) const;
+  // The whole grid: every leaf and tile.
+  openvdb::GridBase::Ptr readWhole() const;
 
  private:
   // A lower internal node: 16^3 leaves of 8^3 voxels, its leaves' values in the file in the order of

@@ -188,7 +188,7 @@ void fillDelayedLoadMetadata(openvdb::io::DelayedLoadMetadata& metadata, const G
 // no grid shares another's tree, so no instances.
 class LeafByLeafArchive : public openvdb::io::Archive {
  public:
-  void write(std::ostream& os, bool seekable, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
+  void writeStream(std::ostream& os, bool seekable, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) const {
     auto stream_metadata = openvdb::io::getStreamMetadataPtr(os);
     if (!stream_metadata) {
       stream_metadata = std::make_shared<openvdb::io::StreamMetadata>();
@@ -336,7 +336,7 @@ void SpilledMedium::add(const Medium& part, const std::string& source) {
 
 void writeValidatedInParts(const std::string& path, const Medium& medium, const openvdb::MetaMap& metadata) {
   const openvdb::GridCPtrVec grids = medium.grids();
-  writeVdbWith(path, [&](std::ostream& os, bool seekable) { LeafByLeafArchive().write(os, seekable, grids, metadata); });
+  writeVdbWith(path, [&](std::ostream& os, bool seekable) { LeafByLeafArchive().writeStream(os, seekable, grids, metadata); });
 }
 
 bool isValidatedInParts(const Medium& medium) {

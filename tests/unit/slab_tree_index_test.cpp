@@ -56,7 +56,7 @@ typename GridT::Ptr scatteredGrid(const std::string& name, typename GridT::Value
 // The part holds exactly the whole grid's leaves in `box` (whole leaves), with the same masks and
 // bits, and no tile.
 template <typename GridT>
-::testing::AssertionResult sameLeavesIn(const GridT& whole, const GridT& part, const CoordBBox& box) {
+::testing::AssertionResult sameLeavesIn(const GridT& whole, const GridT& part, const CoordBBox& box, bool with_tiles = false) {
   using ValueT = typename GridT::ValueType;
   if (!(part.background() == whole.background())) return ::testing::AssertionFailure() << "backgrounds differ";
   std::size_t inside = 0;
@@ -72,7 +72,7 @@ template <typename GridT>
   }
   if (part.tree().leafCount() != inside)
     return ::testing::AssertionFailure() << part.tree().leafCount() << " leaves read, " << inside << " in " << box;
-  if (part.tree().activeTileCount() != 0) return ::testing::AssertionFailure() << "the part holds tiles";
+  if (!with_tiles && part.tree().activeTileCount() != 0) return ::testing::AssertionFailure() << "the part holds tiles";
   return ::testing::AssertionSuccess();
 }
 
@@ -123,6 +123,11 @@ void expectIndexReadsAsWhole(const MappedVdbFile& file, std::size_t index_of, co
     EXPECT_EQ(part->getName(), whole.getName());
     EXPECT_EQ(part->transform(), whole.transform());
   }
+  const auto read_whole = openvdb::gridPtrCast<GridT>(index.readWhole());  // every leaf and tile
+  ASSERT_TRUE(read_whole);
+  EXPECT_TRUE(sameLeavesIn(whole, *read_whole, CoordBBox::inf(), /*with_tiles=*/true));
+  EXPECT_TRUE(sameTiles(whole, read_whole.get()));
+  EXPECT_EQ(read_whole->activeVoxelCount(), whole.activeVoxelCount());
 }
 
 TEST(SlabTreeIndex, ReadsEveryPartAsOpenVdbReadsTheWhole) {
