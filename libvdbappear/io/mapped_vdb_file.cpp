@@ -213,6 +213,7 @@ std::unique_ptr<GridStream> MappedVdbFile::tagged(std::size_t index, const char*
   if (with_leaf_sizes && grid.leaf_sizes) metadata.gridMetadata() = *grid.leaf_sizes;
   metadata.setLeaf(0);
   openvdb::io::setStreamMetadataPtr(stream->in, stream->metadata, /*transfer=*/true);
+  stream->in.exceptions(std::ios_base::failbit | std::ios_base::badbit);
   return stream;
 }
 

@@ -66,7 +66,7 @@ class MappedVdbFile {
   std::optional<std::string> whyNotInParts() const;
 
   // A stream for the grid, at its topology: tagged with the file's versions, the grid's compression,
-  // half floats and background, seekable. `with_leaf_sizes`: the file's table of compressed leaf sizes
+  // half floats and background, seekable, throwing on a short read (std::ios_base::failure). `with_leaf_sizes`: the file's table of compressed leaf sizes
   // (DelayedLoadMetadata) goes with it, so that skipping a leaf reads nothing of it; that table is
   // indexed by the leaf's number in the grid (StreamMetadata::leaf), which a stream that starts at a
   // later leaf must set.
@@ -77,7 +77,6 @@ class MappedVdbFile {
   std::unique_ptr<GridStream> stream(std::size_t grid, const std::vector<char>& bytes) const;
   // The file's bytes [from, to) (std::ios_base::failure where it cannot be read).
   void read(std::streamoff from, std::streamoff to, std::vector<char>& bytes) const;
-  std::streamoff topologyPosition(std::size_t grid) const { return grids_[grid].topology_position; }
   std::streamoff blockPosition(std::size_t grid) const { return grids_[grid].descriptor.getBlockPos(); }
   std::streamoff endPosition(std::size_t grid) const { return grids_[grid].descriptor.getEndPos(); }
 

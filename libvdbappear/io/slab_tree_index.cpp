@@ -21,8 +21,6 @@ void readValue(std::istream& in, T& value) {
   in.read(reinterpret_cast<char*>(&value), sizeof(T));
 }
 
-constexpr auto kStreamFailures = std::ios_base::failbit | std::ios_base::badbit;
-
 // The origin of slot n of an internal node at `origin`.
 template <typename NodeT>
 openvdb::Coord slotOrigin(const openvdb::Coord& origin, openvdb::Index n) {
@@ -74,8 +72,6 @@ void SlabTreeIndex::walk(const GridT& header) {
   const bool from_half = header.saveFloatAsHalf();
   auto topology = file_->stream(grid_, /*with_leaf_sizes=*/false);
   auto values = file_->stream(grid_, /*with_leaf_sizes=*/true);
-  topology->in.exceptions(kStreamFailures);
-  values->in.exceptions(kStreamFailures);
   values->in.seekg(file_->blockPosition(grid_));
   std::istream& in = topology->in;
 
@@ -87,10 +83,7 @@ void SlabTreeIndex::walk(const GridT& header) {
     if (active) active_voxels_ += box.volume();
   };
 
-  std::int32_t buffer_count = 0;
-  ValueT file_background{};
-  readValue(in, buffer_count);
-  readValue(in, file_background);
+  in.seekg(sizeof(std::int32_t) + sizeof(ValueT), std::ios_base::cur);  // buffer count, background: the header's
   openvdb::Index tile_count = 0, child_count = 0;
   readValue(in, tile_count);
   readValue(in, child_count);
@@ -216,13 +209,11 @@ openvdb::GridBase::Ptr SlabTreeIndex::readLeavesOf(const GridT& header, const op
       const Node& entry = *crossing[k];
       file_->read(entry.topology_position, entry.topology_end, topology_bytes);
       auto topology = file_->stream(grid_, topology_bytes);
-      topology->in.exceptions(kStreamFailures);
       auto node = readNodeTopology<Node4>(topology->in, entry.origin, header.background(), from_half);
       const int x0 = int(std::clamp<std::int64_t>((std::int64_t(box.min().x()) - entry.origin.x()) >> 3, 0, 16));
       const int x1 = int(std::clamp<std::int64_t>(((std::int64_t(box.max().x()) - entry.origin.x()) >> 3) + 1, x0, 16));
       file_->read(entry.slice_position[x0], entry.slice_position[x1], value_bytes);
       auto values = file_->stream(grid_, value_bytes);
-      values->in.exceptions(kStreamFailures);
       for (auto leaf = node->beginChildOn(); leaf; ++leaf) {
         const int x = int(leaf.pos() >> 8);
         if (x >= x1) break;
