@@ -9,8 +9,10 @@
 #include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/lobes/lobe_order.h"
 #include "libvdbappear/lobes/multi_lobe_downsample.h"
+#include "libvdbappear/lobes/streamed_multi_lobe.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -25,6 +27,14 @@ constexpr const char* kExamples = R"(Examples:
   vdb_lobe_cluster --factor 4 twill.vdb twill_4x_lobes.vdb
   vdb_lobe_cluster -f 4 --lobes 2 --clusters 2 --report lobes.json twill.vdb out.vdb
   vdb_lobe_cluster -f 4 --clusters 5 --jitter 0.02 hairy-ball.vdb - | vdb_render - -o ball.exr
+  vdb_lobe_cluster -f 4 --lobes 2 --clusters 2 --memory 2 -v twill1024.vdb twill256_lobes.vdb
+
+A file is read in slabs along x, each as wide as fits in --memory (a quarter of the machine's memory
+by default, at most 4 GB), in two passes: each slab's lobes are fitted and the slab parked on disk
+while its albedos join the clustering's table; then each is read back, its lobes ordered and weighed,
+and written leaf by leaf. Scratch files go in OUT's folder and are removed as they are made. The
+result is the same, bit for bit, as reading the medium whole (--in-core), which stdin (-) and files
+that a grid mapping (--grid, --from) applies to are. See docs/scaling.md.
 
 The base grids are the naive result (vdb_sggx_downsample --s-weight count). Each output voxel's
 children with density > 0 are clustered by K-means on their S (Eq. 10); the lobe count follows
@@ -37,8 +47,33 @@ struct Options {
   GridMapping mapping;  // --grid
   std::string input, output, report;
   MultiLobeOptions lobes;
-  bool verbose = false;
+  double memory_gb = 0;  // 0: defaultMemoryBudget()
+  bool in_core = false, verbose = false;
 };
+
+// The file read in slabs (docs/scaling.md), or nullopt where it must be read whole.
+std::optional<StreamedMultiLobe> streamed(const Options& options) {
+  if (options.in_core || options.input == "-") return std::nullopt;
+  const std::uint64_t budget = options.memory_gb > 0 ? std::uint64_t(options.memory_gb * 1e9) : defaultMemoryBudget();
+  std::string why_not;
+  std::optional<StreamedMultiLobe> result;
+  {
+    ProgressBar progress("fitting lobes in slabs", 0);
+    result = downsampleMultiLobeStreamed(options.input, options.mapping, options.lobes, budget, &why_not, &progress,
+                                         options.output);
+  }
+  if (!result && options.verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", kTool, options.input, why_not);
+  if (result) {
+    for (const std::string& note : result->notes) fmt::print(stderr, "{}: note: {}\n", kTool, note);
+    if (options.verbose)
+      fmt::print(stderr,
+                 "{}: read in {} slab{} along x (budget {:.3g} GB; the largest slab's grids held {:.3g} GB; {:.3g} GB "
+                 "parked on disk between the passes; {} distinct albedos clustered, {:.3g} GB)\n",
+                 kTool, result->slabs, result->slabs == 1 ? "" : "s", budget / 1e9, result->largest_slab_bytes / 1e9,
+                 result->parked_bytes / 1e9, result->distinct_albedos, result->albedo_table_bytes / 1e9);
+  }
+  return result;
+}
 
 nlohmann::json errorTable(const LobeFitStatistics& s) {
   nlohmann::json table = nlohmann::json::array();
@@ -78,15 +113,23 @@ void printSummary(const Options& options, const MultiLobeResult& result, double 
 int cluster(const Options& options, const std::string& history) {
   tool::checkOutputs(options.input, options.output, options.report);
   Stopwatch clock;
-  const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
-  const double read_seconds = clock.lap();
-
   MultiLobeResult result;
-  {
+  MediumSummary in, out;
+  double read_seconds = 0, fit_seconds = 0;
+  if (auto slabs = streamed(options)) {  // reading and fitting interleave: one time for both
+    result = std::move(slabs->result);
+    in = std::move(slabs->input);
+    out = std::move(slabs->output);
+    fit_seconds = clock.lap();
+  } else {
+    const MediumPtr fine = tool::readInputMedium(kTool, options.input, options.mapping);
+    read_seconds = clock.lap();
     ProgressBar progress("fitting lobes", 0);
     result = downsampleMultiLobe(*fine, options.lobes, &progress);
+    in = summarize(*fine);
+    out = summarize(*result.medium);
+    fit_seconds = clock.lap();
   }
-  const double fit_seconds = clock.lap();
   for (const auto& warning : result.warnings) fmt::print(stderr, "{}: warning: {}\n", kTool, warning);
 
   writeMedium(*result.medium, options.output, history);
@@ -100,8 +143,8 @@ int cluster(const Options& options, const std::string& history) {
         options.report,
         {{"tool", kTool},
          {"version", kVersion},
-         {"input", tool::summaryJson(summarize(*fine), options.input)},
-         {"output", tool::summaryJson(summarize(*result.medium), options.output)},
+         {"input", tool::summaryJson(in, options.input)},
+         {"output", tool::summaryJson(out, options.output)},
          {"factor", o.factor},
          {"max_lobes", o.fit.max_lobes},
          {"forced_lobes", o.fit.forced_lobes},
@@ -162,6 +205,10 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.clustering.seed, "seed of the K-means initialisations and the jitter")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--memory", options.memory_gb,
+                 "GB: memory budget of reading in slabs (default: a quarter of the machine's memory, at most 4)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--in-core", options.in_core, "read the whole medium, not in slabs (the same result)");
   app.add_flag("-v,--verbose", options.verbose, "print the error against the lobe count, the clusters and timings to stderr");
   app.add_option("--report", options.report,
                  "write a JSON report (error against lobe count, lobe counts chosen, clusters, timings) to this file");

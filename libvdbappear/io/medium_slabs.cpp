@@ -16,6 +16,7 @@
 #include <openvdb/util/logging.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -43,16 +44,18 @@ bool slabType(const openvdb::GridBase& grid) {
 
 // The bytes of each band's leaves, of the internal nodes they bring along and of its output leaves,
 // and what stays in memory throughout (each leaf's node on the input file's side, and on the output's
-// scratch files' side: io/spilled_medium.h), for one grid.
+// scratch files' side: io/spilled_medium.h), for one grid, and for `extra_outputs` output grids of
+// Vec3s values (the most a contract grid takes) with its output's topology.
 template <typename GridT>
-void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, std::map<int, std::uint64_t>& band_bytes,
-                  std::uint64_t& resident_bytes) {
+void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, int extra_outputs,
+                  std::map<int, std::uint64_t>& band_bytes, std::uint64_t& resident_bytes) {
   using TreeT = typename GridT::TreeType;
   // An output leaf whose values wait on disk: its node, masks and file reference, with the
   // allocator's share (measured: 266 and 284 bytes a leaf for the 1024^3 twill's density and albedo
   // read with OpenVDB's delayed loading).
   constexpr std::uint64_t kOnFileLeafBytes = 288;
   const std::uint64_t bytes = leafBytesOf(grid);
+  const std::uint64_t output_bytes = bytes + std::uint64_t(extra_outputs) * leafBytesOf(openvdb::Vec3SGrid());
   std::set<openvdb::Coord> blocks;                       // the output's leaves
   std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
   index.forEachLeaf([&](const openvdb::Coord& origin) {
@@ -61,7 +64,7 @@ void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, std::
       if (nodes.insert({b, log2, blockOf(origin, openvdb::Coord(1 << log2))}).second)
         band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
     band_bytes[b] += bytes;
-    if (blocks.insert(blockOf(origin, openvdb::Coord(band))).second) band_bytes[b] += bytes;  // its output leaf
+    if (blocks.insert(blockOf(origin, openvdb::Coord(band))).second) band_bytes[b] += output_bytes;  // its output leaves
   });
   resident_bytes += index.memoryBytes();
   if (const auto* tiles = static_cast<const GridT*>(index.tiles().get())) {
@@ -74,10 +77,10 @@ void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, std::
           (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) * std::uint64_t(band / 8 + 1);
       for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
       for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c)
-        if (blocks.insert(*c).second) band_bytes[(*c).x()] += bytes;  // blocks are bands along x
+        if (blocks.insert(*c).second) band_bytes[(*c).x()] += output_bytes;  // blocks are bands along x
     }
   }
-  resident_bytes += blocks.size() * kOnFileLeafBytes;  // the output's leaves, their values on disk
+  resident_bytes += blocks.size() * kOnFileLeafBytes * (1 + extra_outputs);  // the output's leaves, their values on disk
 }
 
 // Consecutive bands packed into slabs of at most `slab_bytes` (a band alone may exceed it).
@@ -104,6 +107,12 @@ openvdb::GridBase::Ptr standIn(const openvdb::GridBase& header, const SlabTreeIn
   if (index.activeVoxelCount() > 0)
     grid->apply<SlabGridTypes>([](auto& typed) { typed.tree().setValueOn(openvdb::Coord(0), typed.background()); });
   return grid;
+}
+
+// x rounded up to three significant digits: a budget that is enough.
+double roundedUp(double x) {
+  const double step = std::pow(10.0, std::floor(std::log10(x)) - 2);
+  return std::ceil(x / step) * step;
 }
 
 }  // namespace
@@ -154,18 +163,34 @@ MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : 
 
 MediumSlabs::~MediumSlabs() = default;
 
-MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes) const {
+MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes,
+                                    int extra_output_grids) const {
   std::map<int, std::uint64_t> band_bytes;  // band index -> bytes of its leaves, every voxel grid
   Plan plan;
   for (std::size_t i = 0; i < grids_.size(); ++i)
     if (indices_[i])
       grids_[i]->apply<SlabGridTypes>(
-          [&](const auto& grid) { addGridBytes(grid, *indices_[i], band, band_bytes, plan.resident_bytes); });
+          [&](const auto& grid) {
+            const int extra = grid.getName() == grid_names::kDensity ? extra_output_grids : 0;
+            addGridBytes(grid, *indices_[i], band, extra, band_bytes, plan.resident_bytes);
+          });
   for (const auto& entry : band_bytes) plan.largest_band_bytes = std::max(plan.largest_band_bytes, entry.second);
   const std::uint64_t free_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
   if (plan.largest_band_bytes > free_bytes) return plan;  // no slabs: one band does not fit
   plan.slabs = packSlabs(band_bytes, band, std::min(free_bytes, std::max(slab_target_bytes, plan.largest_band_bytes)));
   return plan;
+}
+
+MediumSlabs::Plan MediumSlabs::planWithin(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes,
+                                          int extra_output_grids) const {
+  Plan fitted = plan(band, memory_bytes, slab_target_bytes, extra_output_grids);
+  if (fitted.slabs.empty() && fitted.largest_band_bytes > 0) {
+    const double needed = double(fitted.resident_bytes + fitted.largest_band_bytes) / 1e9;
+    throw MediumError(fmt::format("{}: a memory budget of {:.3g} GB is too small: one slab of {} voxels along x needs "
+                                  "{:.3g} GB with what stays in memory (--memory {:.3g} or more)",
+                                  path_, double(memory_bytes) / 1e9, band, needed, roundedUp(needed)));
+  }
+  return fitted;
 }
 
 MediumPtr MediumSlabs::slab(const SlabRange& range) {

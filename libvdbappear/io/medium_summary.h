@@ -25,4 +25,7 @@ struct MediumSummary {
 
 MediumSummary summarize(const Medium& medium);
 
+// Adds a part's summary to the whole's (parts share no voxel): grids by name, counts and bytes summed.
+void addSummary(MediumSummary& whole, const MediumSummary& part);
+
 }  // namespace vdbappear

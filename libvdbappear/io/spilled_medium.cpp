@@ -4,6 +4,7 @@
 #include "libvdbappear/io/mapped_pages.h"
 #include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/medium_validate.h"
+#include "libvdbappear/io/scratch_parts.h"
 #include "libvdbappear/io/vdb_read_error.h"
 #include "libvdbappear/io/vdb_writer.h"
 #include "libvdbappear/util/error.h"
@@ -255,12 +256,8 @@ class LeafByLeafArchive : public openvdb::io::Archive {
 
 }  // namespace
 
-SpilledMedium::SpilledMedium(const std::string& output) : scratch_(std::make_shared<Scratch>()) {
-  std::error_code error;
-  folder_ = output == "-" ? std::filesystem::temp_directory_path(error).string()
-                          : std::filesystem::absolute(output, error).parent_path().string();
-  if (folder_.empty()) folder_ = ".";
-}
+SpilledMedium::SpilledMedium(const std::string& output)
+    : folder_(scratchFolderFor(output)), scratch_(std::make_shared<Scratch>()) {}
 
 void SpilledMedium::add(const Medium& part, const std::string& source) {
   const openvdb::GridCPtrVec grids = part.grids();

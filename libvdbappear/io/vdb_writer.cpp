@@ -69,4 +69,8 @@ void writeScratchVdb(const std::string& file, const openvdb::GridCPtrVec& grids)
   });
 }
 
+void writeScratchVdbStream(std::ostream& os, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata) {
+  CompressingArchive(openvdb::io::COMPRESS_ACTIVE_MASK).writeTo(os, /*seekable=*/false, grids, metadata);
+}
+
 }  // namespace vdbappear

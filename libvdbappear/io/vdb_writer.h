@@ -24,4 +24,8 @@ void writeVdbWith(const std::string& path, const VdbStreamWriter& write);
 // not compressed beyond their active masks. Throws MediumError naming `file`.
 void writeScratchVdb(const std::string& file, const openvdb::GridCPtrVec& grids);
 
+// The same on a stream (not seekable: no grid offsets), with file-level metadata. Throws what
+// OpenVDB's writer throws.
+void writeScratchVdbStream(std::ostream& os, const openvdb::GridCPtrVec& grids, const openvdb::MetaMap& metadata);
+
 }  // namespace vdbappear

@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "support/identical_media.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -145,6 +146,45 @@ TEST(LobeClusterCli, OneLobeRendersLikeTheNaiveMediumThroughPipes) {
   }
   EXPECT_GT(sum, 0);
   EXPECT_LT(difference, 1e-4 * sum);
+}
+
+// A file is read in slabs (docs/scaling.md §5): the same medium and report as --in-core, in as
+// many slabs as a small --memory asks for; a budget too small for one slab is one error line,
+// nothing written.
+TEST(LobeClusterCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
+  TempDir dir;
+  const std::string in = dir.path("twill.vdb");
+  ASSERT_EQ(runCommand(kMakeMedium + " twill --yarns 2 --res 96 -o " + quote(in)).status, 0);
+  const std::string slabs = dir.path("slabs.vdb"), whole = dir.path("whole.vdb"), none = dir.path("none.vdb");
+  const std::string flags = " -f 2 --max-lobes 3 --clusters 3 --jitter 0.01 ";
+  const auto r = runCommand(kLobeCluster + flags + "-v --memory 0.03 --report " + quote(dir.path("slabs.json")) + " " +
+                            quote(in) + " " + quote(slabs));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("read in 2 slabs along x"), std::string::npos) << r.err;
+  ASSERT_EQ(runCommand(kLobeCluster + flags + "--in-core --report " + quote(dir.path("whole.json")) + " " + quote(in) +
+                       " " + quote(whole))
+                .status,
+            0);
+  const MediumPtr whole_medium = readMedium(whole), slab_medium = readMedium(slabs);
+  for (Medium* medium : {whole_medium.get(), slab_medium.get()}) medium->metadata.removeMeta("history");  // the commands differ
+  EXPECT_TRUE(test::identicalMedia(*whole_medium, *slab_medium));
+  nlohmann::json reports[2];
+  for (int i = 0; i < 2; ++i) {
+    std::ifstream file(dir.path(i == 0 ? "whole.json" : "slabs.json"));
+    const nlohmann::json report = nlohmann::json::parse(file);
+    for (const char* key : {"clusters", "error_by_lobes", "lobe_count", "rule_on_whole_medium", "voxels",
+                            "voxels_exact_with_one_lobe", "warnings"})
+      reports[i][key] = report[key];
+    for (const char* side : {"input", "output"})
+      for (const auto& grid : report[side]["grids"]) reports[i][side][grid["name"].get<std::string>()] = grid["active_voxels"];
+  }
+  EXPECT_EQ(reports[0], reports[1]) << "clusters, references, fit errors and voxel counts as the whole read's";
+
+  const auto small = runCommand(kLobeCluster + flags + "--memory 0.0001 " + quote(in) + " " + quote(none));
+  EXPECT_EQ(small.status, 1);
+  EXPECT_NE(small.err.find(in + ": a memory budget of 0.0001 GB is too small"), std::string::npos) << small.err;
+  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_FALSE(exists(none));
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "libvdbappear/procedural/weave_medium.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/identical_media.h"
 #include "support/medium_testing.h"
 #include "support/render_testing.h"
 #include "support/temp_dir.h"
@@ -29,53 +30,6 @@ namespace vdbappear {
 namespace {
 
 using openvdb::Coord;
-
-// The same nodes, masks and values, active or not: what the file would hold.
-template <typename GridT>
-::testing::AssertionResult identicalTrees(const GridT& expected, const GridT& actual) {
-  using ValueT = typename GridT::ValueType;
-  if (expected.tree().leafCount() != actual.tree().leafCount())
-    return ::testing::AssertionFailure() << expected.getName() << ": " << expected.tree().leafCount() << " leaves vs "
-                                         << actual.tree().leafCount();
-  if (!(expected.background() == actual.background())) return ::testing::AssertionFailure() << "backgrounds differ";
-  for (auto leaf = expected.tree().cbeginLeaf(); leaf; ++leaf) {
-    const auto* other = actual.tree().probeConstLeaf(leaf->origin());
-    if (!other) return ::testing::AssertionFailure() << expected.getName() << ": no leaf at " << leaf->origin();
-    if (leaf->getValueMask() != other->getValueMask())
-      return ::testing::AssertionFailure() << expected.getName() << ": masks differ at " << leaf->origin();
-    for (openvdb::Index n = 0; n < leaf->SIZE; ++n)
-      if (std::memcmp(&leaf->buffer().data()[n], &other->buffer().data()[n], sizeof(ValueT)) != 0)
-        return ::testing::AssertionFailure() << expected.getName() << ": values differ at " << leaf->offsetToGlobalCoord(n)
-                                             << " (" << (leaf->isValueOn(n) ? "active" : "inactive") << "): "
-                                             << leaf->getValue(n) << " vs " << other->getValue(n);
-  }
-  auto tile = expected.tree().cbeginValueAll();
-  tile.setMaxDepth(GridT::TreeType::ValueAllCIter::LEAF_DEPTH - 1);
-  for (; tile; ++tile)
-    if (!(actual.tree().getValue(tile.getCoord()) == *tile) || actual.tree().isValueOn(tile.getCoord()) != tile.isValueOn())
-      return ::testing::AssertionFailure() << expected.getName() << ": tiles differ at " << tile.getCoord();
-  return ::testing::AssertionSuccess();
-}
-
-::testing::AssertionResult identicalMedia(const Medium& expected, const Medium& actual) {
-  const openvdb::GridCPtrVec a = expected.grids(), b = actual.grids();
-  if (a.size() != b.size()) return ::testing::AssertionFailure() << a.size() << " grids vs " << b.size();
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i]->getName() != b[i]->getName() || a[i]->type() != b[i]->type())
-      return ::testing::AssertionFailure() << "grid " << i << ": " << a[i]->getName() << " vs " << b[i]->getName();
-    if (a[i]->transform() != b[i]->transform()) return ::testing::AssertionFailure() << a[i]->getName() << ": transforms differ";
-    ::testing::AssertionResult same = ::testing::AssertionSuccess();
-    if (auto f = openvdb::gridConstPtrCast<openvdb::FloatGrid>(a[i]))
-      same = identicalTrees(*f, *openvdb::gridConstPtrCast<openvdb::FloatGrid>(b[i]));
-    else if (auto v = openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(a[i]))
-      same = identicalTrees(*v, *openvdb::gridConstPtrCast<openvdb::Vec3SGrid>(b[i]));
-    else if (auto n = openvdb::gridConstPtrCast<openvdb::Int32Grid>(a[i]))
-      same = identicalTrees(*n, *openvdb::gridConstPtrCast<openvdb::Int32Grid>(b[i]));
-    if (!same) return same;
-  }
-  if (expected.metadata.str() != actual.metadata.str()) return ::testing::AssertionFailure() << "file metadata differ";
-  return ::testing::AssertionSuccess();
-}
 
 // Leaves of the voxel-indexed grids whose values are in memory (not yet read from their file).
 std::size_t leavesInMemory(const Medium& medium) {
@@ -111,7 +65,7 @@ int expectStreamedEqualsInCore(const std::string& path, int factor, SggxWeightin
   EXPECT_TRUE(streamed) << path << ": " << why_not;
   if (!streamed) return 0;
   EXPECT_EQ(leavesInMemory(*streamed->result.medium), 0u) << path << ": the coarse slabs' values wait on disk";
-  EXPECT_TRUE(identicalMedia(*whole.medium, *streamed->result.medium)) << path << ", factor " << factor;
+  EXPECT_TRUE(test::identicalMedia(*whole.medium, *streamed->result.medium)) << path << ", factor " << factor;
   EXPECT_EQ(whole.warnings, streamed->result.warnings) << path;
   return streamed->slabs;
 }
@@ -175,7 +129,7 @@ TEST(StreamedDownsample, TheCoarseSlabsWaitOnDiskAndAreWrittenLeafByLeaf) {
   writeMedium(*streamed->result.medium, out, "test");
   EXPECT_EQ(leavesInMemory(*streamed->result.medium), 0u) << "written from copies, a leaf at a time";
   EXPECT_EQ(streamed->result.medium->density->tree().leafCount(), leaves);
-  EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(out)));
+  EXPECT_TRUE(test::identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(out)));
   EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"in.vdb", "slabs.vdb", "whole.vdb"}));
   // Byte for byte the file OpenVDB's writer writes (its table of leaf sizes included, computed here
   // when each slab was spilled), but for the header's random UUID (36 bytes from byte 21).
@@ -202,15 +156,15 @@ TEST(StreamedGeneration, ATwillMadeInSlabsIsTheTwillMadeWhole) {
   const MediumPtr slabs = makeWeave(params);
   EXPECT_TRUE(isValidatedInParts(*slabs));
   EXPECT_EQ(leavesInMemory(*slabs), 0u);
-  EXPECT_TRUE(identicalMedia(*whole, *slabs));
+  EXPECT_TRUE(test::identicalMedia(*whole, *slabs));
   writeMedium(*slabs, dir.path("slabs.vdb"), "test");
-  EXPECT_TRUE(identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(dir.path("slabs.vdb"))));
+  EXPECT_TRUE(test::identicalMedia(*readMedium(dir.path("whole.vdb")), *readMedium(dir.path("slabs.vdb"))));
   EXPECT_EQ(filesIn(dir.path("")), (std::vector<std::string>{"slabs.vdb", "whole.vdb"}));
 
   params.memory.budget_bytes = std::uint64_t(1) << 32;
   const MediumPtr roomy = makeWeave(params);
   EXPECT_FALSE(isValidatedInParts(*roomy)) << "made whole in memory";
-  EXPECT_TRUE(identicalMedia(*whole, *roomy));
+  EXPECT_TRUE(test::identicalMedia(*whole, *roomy));
 }
 
 // A procedural kind made whole and made in slabs on disk under `memory`: the same grids, bit for bit.
@@ -220,7 +174,7 @@ void expectMadeInSlabsAsWhole(ParamsT params, MediumPtr (*make)(const ParamsT&),
   params.memory = memory;
   const MediumPtr slabs = make(params);
   EXPECT_TRUE(isValidatedInParts(*slabs));
-  EXPECT_TRUE(identicalMedia(*whole, *slabs));
+  EXPECT_TRUE(test::identicalMedia(*whole, *slabs));
 }
 
 // Velvet and the hairy ball (its index range centred on zero), made in slabs: the media made whole.

@@ -1,0 +1,86 @@
+#include "libvdbappear/lobes/streamed_multi_lobe.h"
+
+#include "libvdbappear/downsample/naive_downsample.h"
+#include "libvdbappear/io/medium_slabs.h"
+#include "libvdbappear/io/scratch_parts.h"
+#include "libvdbappear/io/spilled_medium.h"
+#include "libvdbappear/lobes/multi_lobe_stages.h"
+#include "libvdbappear/util/progress.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace vdbappear {
+
+namespace {
+
+std::string slabName(const SlabRange& range, const std::string& path, const char* what) {
+  return fmt::format("the {} slab x = {}..{} of {}", what, range.first, range.second - 1, path);
+}
+
+}  // namespace
+
+std::optional<StreamedMultiLobe> downsampleMultiLobeStreamed(const std::string& path, const GridMapping& mapping,
+                                                            const MultiLobeOptions& options, std::uint64_t memory_bytes,
+                                                            std::string* why_not, ProgressBar* progress,
+                                                            const std::string& output) {
+  if (options.factor < 2 || options.factor > kMaxDownsampleFactor)
+    throw std::invalid_argument(fmt::format("downsampling factor {} outside 2..{}", options.factor, kMaxDownsampleFactor));
+  MultiLobeStages stages(options);
+  MediumSlabs slabs(path, mapping);
+  if (slabs.whyNotStreamed()) {
+    if (why_not) *why_not = *slabs.whyNotStreamed();
+    return std::nullopt;
+  }
+  const int band = 8 * options.factor;  // fine voxels per coarse leaf
+  const int slot_count = options.fit.forced_lobes > 0 ? options.fit.forced_lobes : options.fit.max_lobes;
+  const MediumSlabs::Plan plan = slabs.planWithin(band, memory_bytes, kSlabTargetBytes, 4 * slot_count + 1);
+  StreamedMultiLobe out;
+  out.notes = slabs.notes();
+  out.slabs = int(plan.slabs.size());
+  if (progress) progress->setTotal(2 * plan.slabs.size());
+
+  // Pass 1: each slab's coarse voxels and their lobes (§5), parked on disk; the albedos gathered.
+  ScratchParts fitted(output);
+  for (const SlabRange& range : plan.slabs) {
+    MediumPtr part = slabs.slab(range);
+    const MediumSummary part_summary = summarize(*part);
+    addSummary(out.input, part_summary);
+    out.largest_slab_bytes = std::max<std::uint64_t>(out.largest_slab_bytes, part_summary.memory_bytes);
+    MediumPtr coarse = stages.coarsePart(*part);
+    stages.fitPart(*part, *coarse);
+    part.reset();  // the slab's leaves are freed here
+    fitted.put(*coarse);
+    if (progress) progress->advance(1);
+  }
+  slabs.finish();  // some voxel had density > 0
+  out.parked_bytes = fitted.bytes();
+  out.distinct_albedos = stages.distinctAlbedos();
+  out.albedo_table_bytes = stages.tableBytes();
+
+  // §6.2's clusters, and their reference voxels' lobes from the slabs that hold them.
+  stages.cluster();
+  for (std::size_t i = 0; i < plan.slabs.size(); ++i) {
+    const SlabRange& range = plan.slabs[i];
+    if (stages.referencesIn(range.first / options.factor, range.second / options.factor))
+      stages.readReferenceLobes(*fitted.take(i, slabName(range, path, "fitted")));
+  }
+
+  // Pass 2: each slab's lobes ordered (Eq. 13) and weighed (Eq. 11), its values then on disk.
+  SpilledMedium whole(output);
+  for (std::size_t i = 0; i < plan.slabs.size(); ++i) {
+    const std::string name = slabName(plan.slabs[i], path, "multi-lobe");
+    MediumPtr coarse = fitted.take(i, name);
+    stages.orderPart(*coarse);
+    addSummary(out.output, summarize(*coarse));
+    whole.add(*coarse, name);
+    if (progress) progress->advance(1);
+  }
+  out.result = stages.result(whole.medium());
+  out.result.medium->source = path;
+  return out;
+}
+
+}  // namespace vdbappear
