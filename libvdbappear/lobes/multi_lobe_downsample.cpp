@@ -26,7 +26,7 @@ MultiLobeResult downsampleMultiLobe(const Medium& fine, const MultiLobeOptions& 
   if (progress) progress->setTotal(2 * coarse->density->tree().leafCount());
   stages.fitPart(fine, *coarse, progress);
   stages.cluster();
-  stages.readReferenceLobes(*coarse);
+  stages.pickReferences(*coarse);
   stages.orderPart(*coarse, progress);
   return stages.result(coarse);
 }

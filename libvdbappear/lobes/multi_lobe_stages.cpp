@@ -258,44 +258,17 @@ bool better(const ReferenceCandidate& a, const ReferenceCandidate& b) {
   return beforeInTreeOrder(a.ijk, b.ijk);
 }
 
-bool albedoLess(const Vec3& a, const Vec3& b) {
-  return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-}
-
-// Sorted entries with equal albedos merged: counts summed, the better candidate kept.
-std::vector<DistinctAlbedo> merged(std::vector<DistinctAlbedo> entries) {
-  std::sort(entries.begin(), entries.end(), [](const DistinctAlbedo& a, const DistinctAlbedo& b) {
-    return albedoLess(a.albedo, b.albedo);
-  });
-  std::vector<DistinctAlbedo> out;
-  for (const DistinctAlbedo& entry : entries) {
-    if (out.empty() || albedoLess(out.back().albedo, entry.albedo)) {
-      out.push_back(entry);
-      continue;
-    }
-    out.back().voxels += entry.voxels;
-    if (better(entry.best, out.back().best)) out.back().best = entry.best;
-  }
-  return out;
-}
-
-// §6.2's clustering input of every voxel of a fitted coarse part, as distinct albedos.
-std::vector<DistinctAlbedo> distinctAlbedosOf(const Medium& coarse, const CoarseLeaves& coarse_leaves,
-                                              const std::vector<LobeSlotGrids>& slots,
-                                              const VoxelClusterOptions& options) {
-  std::vector<DistinctAlbedo> entries;
+// §6.2's clustering input of every voxel of a fitted coarse part.
+std::vector<Vec3> clusteringInputsOf(const Medium& coarse, const CoarseLeaves& coarse_leaves,
+                                     const VoxelClusterOptions& options) {
+  std::vector<Vec3> inputs;
   for (std::size_t i = 0; i < coarse_leaves.leafCount(); ++i) {
     const FloatLeaf& leaf = coarse_leaves.leaf(i);
     const LeafAlbedo albedo(coarse, leaf);
-    const std::vector<SlotLeaves> slot_leaves = slotLeaves(slots, leaf.origin());
-    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
-      int lobes = 0;
-      for (const SlotLeaves& slot : slot_leaves) lobes += slot.fraction->isValueOn(voxel.pos());
-      entries.push_back({clusteringInput(toVec3(albedo[voxel.pos()]), voxelKey(0, voxel.getCoord()), options), 1.0,
-                         {lobes, *voxel, voxel.getCoord()}});
-    }
+    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel)
+      inputs.push_back(clusteringInput(toVec3(albedo[voxel.pos()]), voxelKey(0, voxel.getCoord()), options));
   }
-  return merged(std::move(entries));
+  return inputs;
 }
 
 // Drops the lobe and cluster grids of other_grids; appends those given, in order.
@@ -345,9 +318,8 @@ void MultiLobeStages::fitPart(const Medium& fine, Medium& coarse, ProgressBar* p
   std::vector<LobeFitStatistics> statistics = fitLobesOfEveryVoxel(fine, coarse_leaves, options_, slots, progress);
   for (std::size_t i = 0; i < statistics.size(); ++i)
     leaf_statistics_.emplace_back(coarse_leaves.leaf(i).origin(), std::move(statistics[i]));
-  std::vector<DistinctAlbedo> part = distinctAlbedosOf(coarse, coarse_leaves, slots, options_.clustering);
-  part.insert(part.end(), table_.begin(), table_.end());
-  table_ = merged(std::move(part));
+  std::vector<Vec3> inputs = clusteringInputsOf(coarse, coarse_leaves, options_.clustering);
+  table_.add(inputs);
 
   openvdb::GridPtrVec grids;
   for (const LobeSlotGrids& slot : slots) {
@@ -358,51 +330,40 @@ void MultiLobeStages::fitPart(const Medium& fine, Medium& coarse, ProgressBar* p
 }
 
 void MultiLobeStages::cluster() {
-  std::vector<Vec3> albedo;
-  std::vector<double> voxels;
-  for (const DistinctAlbedo& entry : table_) {
-    albedo.push_back(entry.albedo);
-    voxels.push_back(entry.voxels);
-  }
-  DistinctAlbedoClusters clustering = clusterDistinctAlbedos(albedo, voxels, options_.clustering);
+  DistinctAlbedoClusters clustering = clusterDistinctAlbedos(table_.albedo(), table_.voxels(), options_.clustering);
   label_ = std::move(clustering.label);
   clusters_.assign(clustering.centres.size(), VoxelCluster{});
-  std::vector<ReferenceCandidate> reference(clusters_.size());
   for (std::size_t c = 0; c < clusters_.size(); ++c) clusters_[c].albedo = clustering.centres[c];
-  for (std::size_t i = 0; i < table_.size(); ++i) {
-    const int c = label_[i];
-    clusters_[c].voxels += std::uint64_t(table_[i].voxels);
-    if (better(table_[i].best, reference[c])) reference[c] = table_[i].best;
-  }
-  lobe_count_ = 0;
-  for (std::size_t c = 0; c < clusters_.size(); ++c) {
-    const Coord& ijk = reference[c].ijk;
-    clusters_[c].reference = {ijk.x(), ijk.y(), ijk.z()};
-    clusters_[c].reference_lobes = reference[c].lobes;
-    lobe_count_ = std::max(lobe_count_, reference[c].lobes);
-  }
-  reference_ndfs_.assign(clusters_.size(), std::nullopt);
+  for (std::size_t i = 0; i < table_.size(); ++i) clusters_[label_[i]].voxels += std::uint64_t(table_.voxels()[i]);
+  references_.assign(clusters_.size(), Reference{});
 }
 
-bool MultiLobeStages::referencesIn(int x0, int x1) const {
-  return std::any_of(clusters_.begin(), clusters_.end(),
-                     [&](const VoxelCluster& c) { return c.reference[0] >= x0 && c.reference[0] < x1; });
+int MultiLobeStages::clusterOf(const Vec3s& albedo, const Coord& ijk) const {
+  return label_[table_.find(clusteringInput(toVec3(albedo), voxelKey(0, ijk), options_.clustering))];
 }
 
-void MultiLobeStages::readReferenceLobes(const Medium& fitted) {
+void MultiLobeStages::pickReferences(const Medium& fitted) {
   const std::vector<LobeSlotGrids> slots = slotsOf(fitted, slot_count_);
-  for (std::size_t c = 0; c < clusters_.size(); ++c) {
-    const Coord ijk(clusters_[c].reference[0], clusters_[c].reference[1], clusters_[c].reference[2]);
-    const FloatLeaf* leaf = fitted.density->tree().probeConstLeaf(ijk);
-    if (!leaf || !leaf->isValueOn(ijk)) continue;
-    reference_ndfs_[c] = ndfOfLobes(readSlots(slotLeaves(slots, leaf->origin()), FloatLeaf::coordToOffset(ijk)));
+  for (auto leaf = fitted.density->tree().cbeginLeaf(); leaf; ++leaf) {
+    const LeafAlbedo albedo(fitted, *leaf);
+    const std::vector<SlotLeaves> slot_leaves = slotLeaves(slots, leaf->origin());
+    for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel) {
+      const Index n = voxel.pos();
+      Reference& reference = references_[clusterOf(albedo[n], voxel.getCoord())];
+      int lobes = 0;
+      for (const SlotLeaves& slot : slot_leaves) lobes += slot.fraction->isValueOn(n);
+      const ReferenceCandidate candidate{lobes, *voxel, voxel.getCoord()};
+      if (!better(candidate, reference.voxel)) continue;
+      reference.voxel = candidate;
+      reference.ndfs = ndfOfLobes(readSlots(slot_leaves, n));
+    }
   }
 }
 
 void MultiLobeStages::orderPart(Medium& coarse, ProgressBar* progress) const {
-  for (std::size_t c = 0; c < reference_ndfs_.size(); ++c)
-    if (!reference_ndfs_[c])
-      throw std::logic_error(fmt::format("multi-lobe downsampling: cluster {}'s reference lobes were not read", c));
+  for (std::size_t c = 0; c < references_.size(); ++c)
+    if (references_[c].voxel.lobes == 0)
+      throw std::logic_error(fmt::format("multi-lobe downsampling: cluster {} has no reference voxel", c));
   const std::vector<LobeSlotGrids> slots = slotsOf(coarse, slot_count_);
   auto cluster_grid = gridOverDensity<openvdb::Int32Grid>(coarse, grid_names::kCluster, 0);
   const CoarseLeaves coarse_leaves(coarse.density->tree());
@@ -414,18 +375,12 @@ void MultiLobeStages::orderPart(Medium& coarse, ProgressBar* progress) const {
       const LeafAlbedo albedo(coarse, leaf);
       for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
         const Index n = voxel.pos();
-        // §6.2: the voxel's cluster, that of its (jittered) albedo in the table.
-        const Vec3 input = clusteringInput(toVec3(albedo[n]), voxelKey(0, voxel.getCoord()), options_.clustering);
-        const auto entry = std::lower_bound(table_.begin(), table_.end(), input,
-                                            [](const DistinctAlbedo& e, const Vec3& a) { return albedoLess(e.albedo, a); });
-        if (entry == table_.end() || albedoLess(input, entry->albedo))
-          throw std::logic_error("multi-lobe downsampling: a voxel's albedo is not in the table of the fitted parts");
-        const int c = label_[entry - table_.begin()];
+        const int c = clusterOf(albedo[n], voxel.getCoord());  // §6.2
         ids->setValueOn(n, c);
         // Eq. (13) against the cluster's reference, then the naive weights (Eq. 11).
         std::vector<SggxLobe> lobes = readSlots(out, n);
         lobes.resize(lobesIn(lobes));  // fits fill slots 0..k-1
-        const std::vector<int> slot = matchLobeSlots(*reference_ndfs_[c], ndfOfLobes(lobes));
+        const std::vector<int> slot = matchLobeSlots(references_[c].ndfs, ndfOfLobes(lobes));
         std::vector<SggxLobe> ordered(slots.size(), SggxLobe{Mat3::Identity(), 0.0});
         for (std::size_t j = 0; j < lobes.size(); ++j) ordered[slot[j]] = lobes[j];
         writeSlots(out, n, ordered, albedo[n]);
@@ -434,7 +389,7 @@ void MultiLobeStages::orderPart(Medium& coarse, ProgressBar* progress) const {
     }
   });
   openvdb::GridPtrVec grids;
-  for (int j = 0; j < lobe_count_; ++j) {  // the slots no voxel uses are dropped
+  for (int j = 0, m = lobeCount(); j < m; ++j) {  // the slots no voxel uses are dropped
     const LobeSlotGrids& slot = slots[j];
     openvdb::tools::pruneInactive(slot.diag->tree());  // leaves with no voxel on become background tiles
     openvdb::tools::pruneInactive(slot.offdiag->tree());
@@ -447,12 +402,23 @@ void MultiLobeStages::orderPart(Medium& coarse, ProgressBar* progress) const {
   replaceLobeGrids(coarse, grids);
 }
 
+int MultiLobeStages::lobeCount() const {
+  int m = 0;
+  for (const Reference& reference : references_) m = std::max(m, reference.voxel.lobes);
+  return m;
+}
+
 MultiLobeResult MultiLobeStages::result(MediumPtr whole) const {
   MultiLobeResult result;
   result.medium = std::move(whole);
   result.warnings = warnings_;
   result.clusters = clusters_;
-  result.lobe_count = lobe_count_;
+  for (std::size_t c = 0; c < clusters_.size(); ++c) {
+    const Coord& ijk = references_[c].voxel.ijk;
+    result.clusters[c].reference = {ijk.x(), ijk.y(), ijk.z()};
+    result.clusters[c].reference_lobes = references_[c].voxel.lobes;
+  }
+  result.lobe_count = lobeCount();
   // The statistics summed leaf by leaf in the tree's order, whatever the parts were: the same sums.
   std::vector<const std::pair<Coord, LobeFitStatistics>*> leaves;
   for (const auto& leaf : leaf_statistics_) leaves.push_back(&leaf);
@@ -461,7 +427,7 @@ MultiLobeResult MultiLobeStages::result(MediumPtr whole) const {
   for (const auto* leaf : leaves) addStatistics(leaf->second, result.statistics);
 
   Medium& coarse = *result.medium;
-  coarse.metadata.insertMeta("lobe_count", openvdb::Int32Metadata(lobe_count_));
+  coarse.metadata.insertMeta("lobe_count", openvdb::Int32Metadata(result.lobe_count));
   coarse.metadata.insertMeta("cluster_count", openvdb::Int32Metadata(int(clusters_.size())));
   if (int(clusters_.size()) < options_.clustering.clusters)
     result.warnings.push_back(fmt::format("{} clusters asked for, {} made: {}", options_.clustering.clusters,

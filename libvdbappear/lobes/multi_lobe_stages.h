@@ -3,12 +3,11 @@
 // medium read in slabs of whole coarse leaves (lobes/streamed_multi_lobe.h) gives the whole read's
 // result bit for bit, and the whole read is the same stages on one part:
 //   1. coarsePart then fitPart, on each part of the fine medium: its naive coarse part (Eq. 5-6) and
-//      every coarse voxel's lobes (§5, Eq. 10), unordered and unweighted; it keeps each coarse leaf's fit
-//      statistics and a table of the distinct (jittered) coarse albedos, with their voxel counts and
-//      the best reference candidate among their voxels;
-//   2. cluster, once every part is fitted: K-means on that table (§6.2) and each cluster's reference
-//      voxel (Eq. 13's "arbitrary voxel");
-//   3. readReferenceLobes, on each fitted part that holds a reference voxel (referencesIn);
+//      every coarse voxel's lobes (§5, Eq. 10), unordered and unweighted; it keeps each coarse
+//      leaf's fit statistics and adds the part's (jittered) albedos to a table of distinct albedos;
+//   2. cluster, once every part is fitted: K-means on that table (§6.2);
+//   3. pickReferences, on each fitted part: each cluster's reference voxel (Eq. 13's "arbitrary
+//      voxel") and its lobes;
 //   4. orderPart, on each fitted part: the cluster grid, each voxel's lobes ordered against its
 //      cluster's reference (Eq. 13) and weighed (Eq. 11), the slots no voxel uses dropped;
 //   5. result, on the whole of the ordered parts.
@@ -16,13 +15,13 @@
 // does not depend on the parts' order or the thread count. Internal header: includes OpenVDB.
 
 #include "libvdbappear/io/medium.h"
+#include "libvdbappear/lobes/distinct_albedo_table.h"
 #include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/lobes/ndf_quadrature.h"
 
 #include <openvdb/openvdb.h>
 
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,13 +39,6 @@ struct ReferenceCandidate {
   openvdb::Coord ijk;
 };
 
-// One distinct clustering input (the coarse albedo plus its jitter, voxel_clustering.h).
-struct DistinctAlbedo {
-  Vec3 albedo;
-  double voxels = 0;
-  ReferenceCandidate best;
-};
-
 class MultiLobeStages {
  public:
   // Throws std::invalid_argument for options out of range.
@@ -62,12 +54,10 @@ class MultiLobeStages {
   // 2. After the last fitPart.
   void cluster();
 
-  // 3. Whether a reference voxel lies in the coarse columns [x0, x1), and their lobes read from a
-  // fitted part (those of its references that it holds).
-  bool referencesIn(int x0, int x1) const;
-  void readReferenceLobes(const Medium& fitted_part);
+  // 3. After cluster(), on every fitted part, in any order.
+  void pickReferences(const Medium& fitted_part);
 
-  // 4. Every reference's lobes must have been read. `progress` advances once per coarse leaf.
+  // 4. After pickReferences on every part. `progress` advances once per coarse leaf.
   void orderPart(Medium& fitted_part, ProgressBar* progress = nullptr) const;
 
   // 5. The whole of the ordered parts with its metadata (lobe_count, cluster_count), the fit
@@ -75,7 +65,7 @@ class MultiLobeStages {
   MultiLobeResult result(MediumPtr whole) const;
 
   // The bytes of the distinct-albedo table, and its size.
-  std::uint64_t tableBytes() const { return table_.capacity() * sizeof(DistinctAlbedo); }
+  std::uint64_t tableBytes() const { return table_.bytes(); }
   std::size_t distinctAlbedos() const { return table_.size(); }
 
  private:
@@ -83,12 +73,18 @@ class MultiLobeStages {
   int slot_count_;
   std::vector<std::string> warnings_;
   std::vector<std::pair<openvdb::Coord, LobeFitStatistics>> leaf_statistics_;  // per coarse leaf, by origin
-  std::vector<DistinctAlbedo> table_;  // sorted by albedo (lexicographically), no albedo twice
+  DistinctAlbedoTable table_;
   // After cluster():
-  std::vector<int> label_;  // table_[i]'s cluster
+  std::vector<int> label_;  // each table entry's cluster
   std::vector<VoxelCluster> clusters_;
-  std::vector<std::optional<std::vector<NdfSamples>>> reference_ndfs_;
-  int lobe_count_ = 0;
+  struct Reference {
+    ReferenceCandidate voxel;
+    std::vector<NdfSamples> ndfs;  // of its lobes
+  };
+  std::vector<Reference> references_;  // per cluster
+
+  int clusterOf(const openvdb::Vec3s& albedo, const openvdb::Coord& ijk) const;
+  int lobeCount() const;  // m: the most lobes of a reference
 };
 
 // Whether coarse coordinate a comes before b in an OpenVDB tree (5-4-3) of any grid: by root node

@@ -40,7 +40,7 @@ std::optional<StreamedMultiLobe> downsampleMultiLobeStreamed(const std::string& 
   StreamedMultiLobe out;
   out.notes = slabs.notes();
   out.slabs = int(plan.slabs.size());
-  if (progress) progress->setTotal(2 * plan.slabs.size());
+  if (progress) progress->setTotal(2 * plan.slabs.size());  // fitted, ordered
 
   // Pass 1: each slab's coarse voxels and their lobes (§5), parked on disk; the albedos gathered.
   ScratchParts fitted(output);
@@ -60,13 +60,10 @@ std::optional<StreamedMultiLobe> downsampleMultiLobeStreamed(const std::string& 
   out.distinct_albedos = stages.distinctAlbedos();
   out.albedo_table_bytes = stages.tableBytes();
 
-  // §6.2's clusters, and their reference voxels' lobes from the slabs that hold them.
+  // §6.2's clusters, and each one's reference voxel (Eq. 13) from a pass over the fitted slabs.
   stages.cluster();
-  for (std::size_t i = 0; i < plan.slabs.size(); ++i) {
-    const SlabRange& range = plan.slabs[i];
-    if (stages.referencesIn(range.first / options.factor, range.second / options.factor))
-      stages.readReferenceLobes(*fitted.take(i, slabName(range, path, "fitted")));
-  }
+  for (std::size_t i = 0; i < plan.slabs.size(); ++i)
+    stages.pickReferences(*fitted.take(i, slabName(plan.slabs[i], path, "fitted")));
 
   // Pass 2: each slab's lobes ordered (Eq. 13) and weighed (Eq. 11), its values then on disk.
   SpilledMedium whole(output);

@@ -5,9 +5,11 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/spilled_medium.h"
+#include "libvdbappear/lobes/distinct_albedo_table.h"
 #include "libvdbappear/lobes/multi_lobe_downsample.h"
 #include "libvdbappear/lobes/multi_lobe_stages.h"
 #include "libvdbappear/lobes/streamed_multi_lobe.h"
+#include "libvdbappear/math/kmeans.h"
 #include "libvdbappear/procedural/random_medium.h"
 #include "libvdbappear/util/error.h"
 
@@ -15,6 +17,7 @@
 #include "support/medium_testing.h"
 #include "support/render_testing.h"
 #include "support/temp_dir.h"
+#include "support/test_random.h"
 
 #include <gtest/gtest.h>
 
@@ -101,6 +104,33 @@ TEST(StreamedMultiLobe, NegativeRangesManySlabsAndOneSlab) {
   const std::string twill = std::string(GOLDEN_DIR) + "/twill24.vdb";  // x = 0..23
   EXPECT_EQ(expectStreamedEqualsInCore(twill, lobeOptions(2, 0, 2)), 2);
   EXPECT_EQ(expectStreamedEqualsInCore(twill, lobeOptions(4, 0, 2)), 1) << "smaller than one slab";
+}
+
+// The clustering's input gathered part by part, in any split and order: the distinct albedos and
+// counts of the whole (distinctPoints, what clusterVoxels clusters), with +0 and -0 one albedo.
+TEST(StreamedMultiLobe, DistinctAlbedoTableGatheredInPartsIsTheWholes) {
+  test::TestRandom random(11);
+  std::vector<Vec3> all;
+  for (int i = 0; i < 2000; ++i)  // few distinct values: many repeats
+    all.push_back(Vec3(std::floor(random.uniform() * 5) / 4, std::floor(random.uniform() * 3) / 2, i % 7 == 0 ? 0.25 : 0.5));
+  const DistinctPoints<Vec3> whole = distinctPoints(all);
+  for (const int parts : {1, 2, 5, 17}) {
+    DistinctAlbedoTable table;
+    for (int p = parts - 1; p >= 0; --p) {  // the parts backwards
+      std::vector<Vec3> part;
+      for (std::size_t i = std::size_t(p); i < all.size(); i += std::size_t(parts)) part.push_back(all[i]);
+      table.add(part);
+    }
+    EXPECT_EQ(table.albedo(), whole.point) << parts << " parts";
+    EXPECT_EQ(table.voxels(), whole.count) << parts << " parts";
+    for (std::size_t i = 0; i < all.size(); i += 97) EXPECT_EQ(table.find(all[i]), std::size_t(whole.of[i]));
+  }
+  DistinctAlbedoTable table;
+  std::vector<Vec3> zeros = {clusteringInput(Vec3(-0.0, 0.5, 0.5), 1, {}), Vec3(0.0, 0.5, 0.5)};
+  table.add(zeros);
+  EXPECT_EQ(table.size(), 1u);
+  EXPECT_FALSE(std::signbit(table.albedo()[0].x())) << "clusteringInput makes -0 +0";
+  EXPECT_THROW(table.find(Vec3(0.1, 0.2, 0.3)), std::logic_error);
 }
 
 // The references' tie-break ("first in tree order"): the order OpenVDB's iterators visit voxels in.
