@@ -30,7 +30,7 @@ std::optional<StreamedDownsample> downsampleNaiveStreamed(const std::string& pat
   out.slabs = int(plan.slabs.size());
   if (progress) progress->setTotal(plan.slabs.size());
   SpilledMedium whole(output);  // the coarse slabs, their values on disk until written
-  for (const SlabRange& range : plan.slabs) {
+  for (const openvdb::CoordBBox& range : plan.slabs) {
     MediumPtr part = slabs.slab(range);
     const MediumSummary part_summary = summarize(*part);
     addSummary(out.input, part_summary);
@@ -41,7 +41,7 @@ std::optional<StreamedDownsample> downsampleNaiveStreamed(const std::string& pat
       if (std::find(out.result.warnings.begin(), out.result.warnings.end(), warning) == out.result.warnings.end())
         out.result.warnings.push_back(warning);
     addSummary(out.output, summarize(*coarse.medium));
-    whole.add(*coarse.medium, fmt::format("the downsampled slab x = {}..{} of {}", range.first, range.second - 1, path));
+    whole.add(*coarse.medium, fmt::format("the downsampled slab {} of {}", pieceName(range), path));
     if (progress) progress->advance(1);
   }
   slabs.finish();  // some voxel had density > 0

@@ -16,6 +16,7 @@
 #include <openvdb/util/logging.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -42,13 +43,21 @@ bool slabType(const openvdb::GridBase& grid) {
   return grid.apply<SlabGridTypes>([](const auto&) {});
 }
 
-// The bytes of each band's leaves, of the internal nodes they bring along and of its output leaves,
+// A cell: band index along x, then the cell's index along y and z (cells of `cellSize(band)` voxels).
+using Cell = std::array<int, 3>;
+
+Cell cellOf(const openvdb::Coord& ijk, int band) {
+  const int cell = cellSize(band);
+  return {floorDiv(ijk.x(), band), floorDiv(ijk.y(), cell), floorDiv(ijk.z(), cell)};
+}
+
+// The bytes of each cell's leaves, of the internal nodes they bring along and of its output leaves,
 // and what stays in memory throughout (each leaf's node on the input file's side, and on the output's
 // scratch files' side: io/spilled_medium.h), for one grid, and for `extra_outputs` output grids of
 // Vec3s values (the most a contract grid takes) with its output's topology.
 template <typename GridT>
 void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, int extra_outputs,
-                  std::map<int, std::uint64_t>& band_bytes, std::uint64_t& resident_bytes) {
+                  std::map<Cell, std::uint64_t>& cell_bytes, std::uint64_t& resident_bytes) {
   using TreeT = typename GridT::TreeType;
   // An output leaf whose values wait on disk: its node, masks and file reference, with the
   // allocator's share (measured: 266 and 284 bytes a leaf for the 1024^3 twill's density and albedo
@@ -56,48 +65,88 @@ void addGridBytes(const GridT& grid, const SlabTreeIndex& index, int band, int e
   constexpr std::uint64_t kOnFileLeafBytes = 288;
   const std::uint64_t bytes = leafBytesOf(grid);
   const std::uint64_t output_bytes = bytes + std::uint64_t(extra_outputs) * leafBytesOf(openvdb::Vec3SGrid());
-  std::set<openvdb::Coord> blocks;                       // the output's leaves
-  std::set<std::tuple<int, int, openvdb::Coord>> nodes;  // (band, level, internal node) a band's leaves need
+  const int cell = cellSize(band);
+  std::set<openvdb::Coord> blocks;                        // the output's leaves
+  std::set<std::tuple<Cell, int, openvdb::Coord>> nodes;  // (cell, level, internal node) a cell's leaves need
+  const auto addBlock = [&](const openvdb::Coord& block) {  // an output leaf, by its index in band-sized blocks
+    if (blocks.insert(block).second) cell_bytes[cellOf(openvdb::Coord(block.x() * band, block.y() * band, block.z() * band), band)] += output_bytes;
+  };
   index.forEachLeaf([&](const openvdb::Coord& origin) {
-    const int b = floorDiv(origin.x(), band);
+    const Cell c = cellOf(origin, band);
     for (const int log2 : {7, 12})  // the two internal levels: 128^3 and 4096^3 voxels
-      if (nodes.insert({b, log2, blockOf(origin, openvdb::Coord(1 << log2))}).second)
-        band_bytes[b] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
-    band_bytes[b] += bytes;
-    if (blocks.insert(blockOf(origin, openvdb::Coord(band))).second) band_bytes[b] += output_bytes;  // its output leaves
+      if (nodes.insert({c, log2, blockOf(origin, openvdb::Coord(1 << log2))}).second)
+        cell_bytes[c] += log2 == 7 ? kNode1Bytes<TreeT> : kNode2Bytes<TreeT>;
+    cell_bytes[c] += bytes;
+    addBlock(blockOf(origin, openvdb::Coord(band)));
   });
   resident_bytes += index.memoryBytes();
   if (const auto* tiles = static_cast<const GridT*>(index.tiles().get())) {
     auto tile = tiles->tree().cbeginValueAll();
     tile.setMaxDepth(TreeT::ValueAllCIter::LEAF_DEPTH - 1);
-    for (; tile; ++tile) {  // a tile's part in a band, as leaves
+    for (; tile; ++tile) {  // a tile's part in each cell, as leaves
       if (!tile.isValueOn() && *tile == grid.background()) continue;
       const openvdb::CoordBBox box = tile.getBoundingBox();
-      const std::uint64_t leaves_per_band =
-          (std::uint64_t(box.dim().y()) * std::uint64_t(box.dim().z()) / 64 + 1) * std::uint64_t(band / 8 + 1);
-      for (int b = floorDiv(box.min().x(), band); b <= floorDiv(box.max().x(), band); ++b) band_bytes[b] += leaves_per_band * bytes;
-      for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c)
-        if (blocks.insert(*c).second) band_bytes[(*c).x()] += output_bytes;  // blocks are bands along x
+      const Cell first = cellOf(box.min(), band), last = cellOf(box.max(), band);
+      const openvdb::CoordBBox cells(openvdb::Coord(first[0], first[1], first[2]), openvdb::Coord(last[0], last[1], last[2]));
+      for (auto c = cells.begin(); c; ++c) {
+        openvdb::CoordBBox part(openvdb::Coord((*c).x() * band, (*c).y() * cell, (*c).z() * cell),
+                                openvdb::Coord((*c).x() * band + band - 1, (*c).y() * cell + cell - 1, (*c).z() * cell + cell - 1));
+        part.intersect(box);
+        cell_bytes[{(*c).x(), (*c).y(), (*c).z()}] +=
+            (std::uint64_t(part.dim().y()) * std::uint64_t(part.dim().z()) / 64 + 1) * std::uint64_t(band / 8 + 1) * bytes;
+      }
+      for (auto c = blocksOf(box, openvdb::Coord(band)).begin(); c; ++c) addBlock(*c);
     }
   }
   resident_bytes += blocks.size() * kOnFileLeafBytes * (1 + extra_outputs);  // the output's leaves, their values on disk
 }
 
-// Consecutive bands packed into slabs of at most `slab_bytes` (a band alone may exceed it).
-std::vector<SlabRange> packSlabs(const std::map<int, std::uint64_t>& band_bytes, int band, std::uint64_t slab_bytes) {
-  std::vector<SlabRange> slabs;
+// Runs [first, last] of consecutive indices whose sizes sum to at most `limit` (an index alone may exceed it).
+std::vector<std::pair<int, int>> consecutiveRuns(const std::map<int, std::uint64_t>& sizes, std::uint64_t limit) {
+  std::vector<std::pair<int, int>> runs;
   std::uint64_t used = 0;
-  for (const auto& [index, bytes] : band_bytes) {
-    const int x0 = index * band, x1 = x0 + band;
-    if (!slabs.empty() && slabs.back().second == x0 && used + bytes <= slab_bytes) {
-      slabs.back().second = x1;
-      used += bytes;
+  for (const auto& [index, size] : sizes) {
+    if (!runs.empty() && runs.back().second == index - 1 && used + size <= limit) {
+      runs.back().second = index;
+      used += size;
     } else {
-      slabs.push_back({x0, x1});
-      used = bytes;
+      runs.push_back({index, index});
+      used = size;
     }
   }
-  return slabs;
+  return runs;
+}
+
+// Pieces of at most `limit` bytes where a cell allows: consecutive bands packed into slabs; a band
+// over the limit split into runs of rows of cells along y; a row over it into runs of cells along z.
+std::vector<openvdb::CoordBBox> packPieces(const std::map<Cell, std::uint64_t>& cell_bytes, int band, std::uint64_t limit) {
+  const int cell = cellSize(band);
+  const int lo = openvdb::Coord::min().x(), hi = openvdb::Coord::max().x();
+  std::map<int, std::uint64_t> band_bytes;
+  std::map<int, std::map<int, std::uint64_t>> row_bytes;                  // band -> row -> bytes
+  std::map<std::pair<int, int>, std::map<int, std::uint64_t>> row_cells;  // (band, row) -> z cell -> bytes
+  for (const auto& [c, bytes] : cell_bytes) {
+    band_bytes[c[0]] += bytes;
+    row_bytes[c[0]][c[1]] += bytes;
+    row_cells[{c[0], c[1]}][c[2]] += bytes;
+  }
+  std::vector<openvdb::CoordBBox> pieces;
+  for (const auto& [b0, b1] : consecutiveRuns(band_bytes, limit)) {
+    if (b0 < b1 || band_bytes[b0] <= limit) {
+      pieces.emplace_back(openvdb::Coord(b0 * band, lo, lo), openvdb::Coord(b1 * band + band - 1, hi, hi));
+      continue;
+    }
+    const int x0 = b0 * band, x1 = x0 + band - 1;
+    for (const auto& [y0, y1] : consecutiveRuns(row_bytes[b0], limit)) {
+      if (y0 < y1 || row_bytes[b0][y0] <= limit) {
+        pieces.emplace_back(openvdb::Coord(x0, y0 * cell, lo), openvdb::Coord(x1, y1 * cell + cell - 1, hi));
+        continue;
+      }
+      for (const auto& [z0, z1] : consecutiveRuns(row_cells[{b0, y0}], limit))
+        pieces.emplace_back(openvdb::Coord(x0, y0 * cell, z0 * cell), openvdb::Coord(x1, y0 * cell + cell - 1, z1 * cell + cell - 1));
+    }
+  }
+  return pieces;
 }
 
 // A voxel-indexed grid's stand-in where only its name, type and whether it holds a voxel matter
@@ -116,6 +165,17 @@ double roundedUp(double x) {
 }
 
 }  // namespace
+
+int cellSize(int band) { return band * ((127 + band) / band); }
+
+std::string pieceName(const openvdb::CoordBBox& piece) {
+  std::string name = fmt::format("x = {}..{}", piece.min().x(), piece.max().x());
+  if (piece.min().y() > openvdb::Coord::min().y() || piece.max().y() < openvdb::Coord::max().y())
+    name += fmt::format(", y = {}..{}", piece.min().y(), piece.max().y());
+  if (piece.min().z() > openvdb::Coord::min().z() || piece.max().z() < openvdb::Coord::max().z())
+    name += fmt::format(", z = {}..{}", piece.min().z(), piece.max().z());
+  return name;
+}
 
 MediumSlabs::MediumSlabs(const std::string& path, const GridMapping& mapping) : path_(path) {
   openvdb::initialize();
@@ -165,38 +225,37 @@ MediumSlabs::~MediumSlabs() = default;
 
 MediumSlabs::Plan MediumSlabs::plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes,
                                     int extra_output_grids) const {
-  std::map<int, std::uint64_t> band_bytes;  // band index -> bytes of its leaves, every voxel grid
+  std::map<Cell, std::uint64_t> cell_bytes;  // cell -> bytes of its leaves, every voxel grid
   Plan plan;
   for (std::size_t i = 0; i < grids_.size(); ++i)
     if (indices_[i])
       grids_[i]->apply<SlabGridTypes>(
           [&](const auto& grid) {
             const int extra = grid.getName() == grid_names::kDensity ? extra_output_grids : 0;
-            addGridBytes(grid, *indices_[i], band, extra, band_bytes, plan.resident_bytes);
+            addGridBytes(grid, *indices_[i], band, extra, cell_bytes, plan.resident_bytes);
           });
-  for (const auto& entry : band_bytes) plan.largest_band_bytes = std::max(plan.largest_band_bytes, entry.second);
+  for (const auto& entry : cell_bytes) plan.largest_cell_bytes = std::max(plan.largest_cell_bytes, entry.second);
   const std::uint64_t free_bytes = memory_bytes > plan.resident_bytes ? memory_bytes - plan.resident_bytes : 0;
-  if (plan.largest_band_bytes > free_bytes) return plan;  // no slabs: one band does not fit
-  plan.slabs = packSlabs(band_bytes, band, std::min(free_bytes, std::max(slab_target_bytes, plan.largest_band_bytes)));
+  if (plan.largest_cell_bytes > free_bytes) return plan;  // no slabs: one cell does not fit
+  plan.slabs = packPieces(cell_bytes, band, std::min(free_bytes, std::max(slab_target_bytes, plan.largest_cell_bytes)));
   return plan;
 }
 
 MediumSlabs::Plan MediumSlabs::planWithin(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes,
                                           int extra_output_grids) const {
   Plan fitted = plan(band, memory_bytes, slab_target_bytes, extra_output_grids);
-  if (fitted.slabs.empty() && fitted.largest_band_bytes > 0) {
-    const double needed = double(fitted.resident_bytes + fitted.largest_band_bytes) / 1e9;
-    throw MediumError(fmt::format("{}: a memory budget of {:.3g} GB is too small: one slab of {} voxels along x needs "
-                                  "{:.3g} GB with what stays in memory (--memory {:.3g} or more)",
-                                  path_, double(memory_bytes) / 1e9, band, needed, roundedUp(needed)));
+  if (fitted.slabs.empty() && fitted.largest_cell_bytes > 0) {
+    const double needed = double(fitted.resident_bytes + fitted.largest_cell_bytes) / 1e9;
+    const int cell = cellSize(band);
+    throw MediumError(fmt::format("{}: a memory budget of {:.3g} GB is too small: one piece of {} x {} x {} voxels "
+                                  "needs {:.3g} GB with what stays in memory (--memory {:.3g} or more)",
+                                  path_, double(memory_bytes) / 1e9, band, cell, cell, needed, roundedUp(needed)));
   }
   return fitted;
 }
 
-MediumPtr MediumSlabs::slab(const SlabRange& range) {
+MediumPtr MediumSlabs::slab(const openvdb::CoordBBox& box) {
   file_->releasePages();
-  const openvdb::CoordBBox box(openvdb::Coord(range.first, openvdb::Coord::min().y(), openvdb::Coord::min().z()),
-                               openvdb::Coord(range.second - 1, openvdb::Coord::max().y(), openvdb::Coord::max().z()));
   openvdb::GridPtrVec grids;
   for (std::size_t i = 0; i < grids_.size(); ++i) {
     if (!indices_[i]) {

@@ -40,8 +40,13 @@ inline bool isVoxelIndexed(const std::string& name) {
 // twill downsampled: 4.0 s in 6 slabs of 0.49 GB, 4.4 s in 32 of 0.1 GB, 5.3 s in one of 2.7 GB).
 inline constexpr std::uint64_t kSlabTargetBytes = 500'000'000;
 
-// [x0, x1): a slab's fine voxel columns.
-using SlabRange = std::pair<int, int>;
+// The pieces are slabs of whole bands along x; a band larger than the piece's target is cut along y
+// and z into cells of cellSize(band) voxels (a multiple of the band, at least a 128^3 node), so that
+// a piece's size does not grow with the medium's cross-section.
+int cellSize(int band);
+
+// "x = 0..31", with the y and z ranges where the piece is cut along them: for messages.
+std::string pieceName(const openvdb::CoordBBox& piece);
 
 class MediumSlabs {
  public:
@@ -53,27 +58,28 @@ class MediumSlabs {
   // does not take, or the file's format is older than the parts reader takes), or nullopt. plan and slab need a file read in slabs.
   const std::optional<std::string>& whyNotStreamed() const { return why_not_; }
 
-  // Slabs of whole bands `band` voxels wide (band = 8 F for factor F, aligned to x = 0), covering
-  // every active value in increasing x, each as wide as fits in `memory_bytes` less what stays in
-  // memory throughout: the input's index (io/slab_tree_index.h) and the output's topology (a leaf per
-  // band-wide block that holds a leaf, per voxel grid, its values spilled to disk:
-  // io/spilled_medium.h). No slabs if one band alone does not fit.
+  // Pieces covering every active value: slabs of whole bands `band` voxels wide (band = 8 F for
+  // factor F, aligned to x = 0), in increasing x, each as wide as fits in `memory_bytes` less what
+  // stays in memory throughout: the input's index (io/slab_tree_index.h) and the output's topology (a
+  // leaf per band-wide block that holds a leaf, per voxel grid, its values spilled to disk:
+  // io/spilled_medium.h); a band that does not fit is cut into runs of cells along y, then z. No
+  // pieces if one cell alone does not fit.
   struct Plan {
-    std::vector<SlabRange> slabs;
-    std::uint64_t largest_band_bytes = 0;  // a band's leaves and its output's, every voxel grid
-    std::uint64_t resident_bytes = 0;      // the input's index and the output's topology
+    std::vector<openvdb::CoordBBox> slabs;  // the pieces: whole bands, or cells of one band
+    std::uint64_t largest_cell_bytes = 0;   // a cell's leaves and its output's, every voxel grid
+    std::uint64_t resident_bytes = 0;       // the input's index and the output's topology
   };
   // Slabs hold at most `slab_target_bytes` where the budget allows more: small slabs cost no time.
   // An output with `extra_output_grids` voxel grids more than the input (lobe grids), each with the
   // density's output topology, is counted as such.
   Plan plan(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes = ~std::uint64_t(0),
             int extra_output_grids = 0) const;
-  // The same plan; MediumError naming the budget one band needs where it does not fit.
+  // The same plan; MediumError naming the budget one cell needs where it does not fit.
   Plan planWithin(int band, std::uint64_t memory_bytes, std::uint64_t slab_target_bytes, int extra_output_grids = 0) const;
 
-  // The slab's medium: its leaves read from the file (any range, in any order), active tiles cut to it, the grids that are not indexed by voxel copied whole; each grid
+  // The piece's medium: its leaves read from the file (any box, in any order), active tiles cut to it, the grids that are not indexed by voxel copied whole; each grid
   // validated as readMedium validates a grid (an empty density excepted), then across grids.
-  MediumPtr slab(const SlabRange& range);
+  MediumPtr slab(const openvdb::CoordBBox& piece);
 
   // The whole-medium checks that no slab can make: some voxel had density > 0. Call after the last slab.
   void finish() const;

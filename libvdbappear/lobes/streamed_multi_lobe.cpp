@@ -16,8 +16,8 @@ namespace vdbappear {
 
 namespace {
 
-std::string slabName(const SlabRange& range, const std::string& path, const char* what) {
-  return fmt::format("the {} slab x = {}..{} of {}", what, range.first, range.second - 1, path);
+std::string slabName(const openvdb::CoordBBox& piece, const std::string& path, const char* what) {
+  return fmt::format("the {} slab {} of {}", what, pieceName(piece), path);
 }
 
 }  // namespace
@@ -44,7 +44,7 @@ std::optional<StreamedMultiLobe> downsampleMultiLobeStreamed(const std::string& 
 
   // Pass 1: each slab's coarse voxels and their lobes (§5), parked on disk; the albedos gathered.
   ScratchParts fitted(output);
-  for (const SlabRange& range : plan.slabs) {
+  for (const openvdb::CoordBBox& range : plan.slabs) {
     MediumPtr part = slabs.slab(range);
     const MediumSummary part_summary = summarize(*part);
     addSummary(out.input, part_summary);

@@ -48,4 +48,23 @@ MediumPtr multiLobeTwill(int resolution, int yarns, int factor, int lobes, int c
   return downsampleMultiLobe(*makeWeave(weave), options).medium;
 }
 
+MediumPtr spreadCopies(const Medium& medium, const std::vector<openvdb::Coord>& offsets) {
+  auto copy = std::make_shared<Medium>(medium);
+  const auto spread = [&](auto& grid) {
+    if (!grid) return;
+    using GridT = typename std::decay_t<decltype(grid)>::element_type;
+    auto out = GridT::create(grid->background());
+    out->setName(grid->getName());
+    out->setTransform(grid->transform().copy());
+    for (const openvdb::Coord& offset : offsets)
+      for (auto v = grid->cbeginValueOn(); v; ++v) out->tree().setValueOn(v.getCoord() + offset, *v);
+    grid = out;
+  };
+  spread(copy->density);
+  spread(copy->albedo);
+  spread(copy->sggx_diag);
+  spread(copy->sggx_offdiag);
+  return copy;
+}
+
 }  // namespace vdbappear::test

@@ -36,6 +36,10 @@ typename GridT::Ptr namedGridLike(const Medium& medium, const std::string& name,
   return grid;
 }
 
+// Copies of the medium's voxels (density, albedo, SGGX) at each offset: a medium spread over several
+// 128^3 nodes in y and z from a small one.
+MediumPtr spreadCopies(const Medium& medium, const std::vector<openvdb::Coord>& offsets);
+
 // A deep copy of every grid of a medium, as a GridPtrVec (for writeRawVdb).
 openvdb::GridPtrVec copyGrids(const Medium& medium);
 

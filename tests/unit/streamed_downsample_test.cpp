@@ -53,7 +53,7 @@ std::vector<std::string> filesIn(const std::string& folder) {
 // The smallest budget that reads `path`: what stays in memory and one band.
 std::uint64_t smallestBudget(const std::string& path, int factor) {
   const MediumSlabs::Plan plan = MediumSlabs(path, {}).plan(8 * factor, ~std::uint64_t(0));
-  return plan.resident_bytes + plan.largest_band_bytes;
+  return plan.resident_bytes + plan.largest_cell_bytes;
 }
 
 // Downsampled whole and in the most slabs the budget allows: identical; returns the slab count.
@@ -101,6 +101,13 @@ TEST(StreamedDownsample, NegativeRangesEmissionAndOneSlab) {
   EXPECT_GE(expectStreamedEqualsInCore(path, 2), 4) << "many slabs";
   EXPECT_GE(expectStreamedEqualsInCore(path, 5), 2);
   EXPECT_EQ(expectStreamedEqualsInCore(std::string(GOLDEN_DIR) + "/cube8.vdb", 8), 1) << "smaller than one slab";
+  // Bands cut along y and z into cells where one band exceeds the budget (io/medium_slabs.h).
+  params.extent = 24;
+  writeMedium(*test::spreadCopies(*makeRandomMedium(params), {Coord(0, -300, -300), Coord(5, -300, 10), Coord(0, 0, 0),
+                                                              Coord(0, 140, 150), Coord(2, 140, 300), Coord(0, 400, -150)}),
+              dir.path("spread.vdb"), "test");
+  EXPECT_GE(expectStreamedEqualsInCore(dir.path("spread.vdb"), 2), 6);
+  EXPECT_GE(expectStreamedEqualsInCore(dir.path("spread.vdb"), 3), 6);
 }
 
 // The coarse slabs wait on scratch files beside the output, removed as soon as they are mapped, and
@@ -198,7 +205,7 @@ TEST(StreamedDownsample, RefusesWhatTheWholeReadRefusesAndNamesTheBudget) {
     downsampleNaiveStreamed(twill, {}, {2, SggxWeighting::Count}, 1000, nullptr);
     ADD_FAILURE() << "a budget of 1000 bytes was accepted";
   } catch (const MediumError& e) {
-    EXPECT_NE(std::string(e.what()).find("a memory budget of 1e-06 GB is too small: one slab of 16 voxels along x needs"),
+    EXPECT_NE(std::string(e.what()).find("a memory budget of 1e-06 GB is too small: one piece of 16 x 128 x 128 voxels needs"),
               std::string::npos)
         << e.what();
     EXPECT_NE(std::string(e.what()).find("(--memory "), std::string::npos) << e.what();

@@ -37,7 +37,7 @@ int slotsOf(const MultiLobeOptions& options) {
 std::uint64_t smallestBudget(const std::string& path, const MultiLobeOptions& options) {
   const MediumSlabs::Plan plan =
       MediumSlabs(path, {}).plan(8 * options.factor, ~std::uint64_t(0), ~std::uint64_t(0), 4 * slotsOf(options) + 1);
-  return plan.resident_bytes + plan.largest_band_bytes;
+  return plan.resident_bytes + plan.largest_cell_bytes;
 }
 
 void expectSameResult(const MultiLobeResult& whole, const MultiLobeResult& slabs, const std::string& what) {
@@ -133,6 +133,26 @@ TEST(StreamedMultiLobe, DistinctAlbedoTableGatheredInPartsIsTheWholes) {
   EXPECT_THROW(table.find(Vec3(0.1, 0.2, 0.3)), std::logic_error);
 }
 
+// A band larger than the budget allows is cut along y and z into cells (io/medium_slabs.h): the
+// pieces together are still the whole read, bit for bit, for both streamed reductions.
+TEST(StreamedMultiLobe, BandsCutAlongYAndZGiveTheWholeReadsResult) {
+  test::TempDir dir;
+  RandomMediumParams params;
+  params.extent = 24;
+  params.seed = 9;
+  const MediumPtr blob = makeRandomMedium(params);
+  const std::string path = dir.path("spread.vdb");
+  writeMedium(*test::spreadCopies(*blob, {Coord(0, -300, -300), Coord(5, -300, 10), Coord(0, 0, 0), Coord(-3, 140, 0),
+                                    Coord(0, 140, 150), Coord(2, 140, 300), Coord(0, 400, -150)}),
+              path, "test");
+  const MultiLobeOptions options = lobeOptions(2, 0, 3, 0.02, 4);
+  const MediumSlabs::Plan plan = MediumSlabs(path, {}).plan(16, smallestBudget(path, options), ~std::uint64_t(0), 13);
+  int cut = 0;
+  for (const openvdb::CoordBBox& piece : plan.slabs) cut += piece.min().y() > Coord::min().y();
+  EXPECT_GE(cut, 5) << "pieces cut along y (and z)";
+  EXPECT_GE(expectStreamedEqualsInCore(path, options), 8);
+}
+
 // The references' tie-break ("first in tree order"): the order OpenVDB's iterators visit voxels in.
 TEST(StreamedMultiLobe, TreeOrderIsTheOrderOfOpenVdbsIterators) {
   openvdb::FloatTree tree;
@@ -189,7 +209,7 @@ TEST(StreamedMultiLobe, RefusesWhatTheWholeReadRefusesAndNamesTheBudget) {
   const std::string twill = std::string(GOLDEN_DIR) + "/twill24.vdb";
   const MultiLobeOptions options = lobeOptions(2, 2, 2);
   const std::string small = streamedError(twill, options, 1000);
-  EXPECT_NE(small.find("a memory budget of 1e-06 GB is too small: one slab of 16 voxels along x needs"), std::string::npos)
+  EXPECT_NE(small.find("a memory budget of 1e-06 GB is too small: one piece of 16 x 128 x 128 voxels needs"), std::string::npos)
       << small;
   EXPECT_NE(small.find("(--memory "), std::string::npos) << small;
 

@@ -9,6 +9,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   return vdbappear::fuzz::readInputFile(data, size, "medium.vdb", [](const std::string& path) {
     const vdbappear::MediumSlabs::Plan plan = vdbappear::MediumSlabs(path, {}).plan(16, ~std::uint64_t(0));
     vdbappear::downsampleNaiveStreamed(path, {}, {2, vdbappear::SggxWeighting::Count},
-                                       plan.resident_bytes + plan.largest_band_bytes, nullptr, nullptr, path + ".out.vdb");
+                                       plan.resident_bytes + plan.largest_cell_bytes, nullptr, nullptr, path + ".out.vdb");
   });
 }
