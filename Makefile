@@ -59,7 +59,8 @@ bench: build
 
 # Media larger than memory (issue 28): time and peak memory against active voxels at 256^3, 512^3,
 # 1024^3 (the whole read of 1024^3 takes 21.5 GB) and 1792^3 (1.06 billion active voxels, a 15.7 GB
-# file made and removed), with OpenVDB's vdb_lod as the peer. About 45 minutes on 2 cores.
+# file made and removed), with OpenVDB's vdb_lod as the peer; vdb_lobe_cluster in slabs up to 1024^3.
+# About 65 minutes on 2 cores (--sizes 256,512,1024: about 30).
 bench-scale: build
 	@scripts/bench_scale.py --build $(BUILD_DIR)
 

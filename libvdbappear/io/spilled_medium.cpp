@@ -288,6 +288,9 @@ void SpilledMedium::add(const Medium& part, const std::string& source) {
       tagSpilledLeaves(typed, static_cast<std::decay_t<decltype(typed)>&>(*found->second));
     });
   }
+  // Reading the topology back faulted in pages around it (the kernel maps 64 KB around a fault): for
+  // small parts, much of the file. They are given back, or a few thousand parts hold their files.
+  releaseMappedPages({scratch.temporaryPath()});
 
   // The grid that stands for `grid` in the whole: its leaves on the scratch file, or `grid` itself.
   const auto spilled = [&](const openvdb::GridBase::ConstPtr& grid) -> openvdb::GridBase::Ptr {
