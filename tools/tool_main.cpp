@@ -6,6 +6,7 @@
 #include "libvdbappear/io/medium_file.h"
 #include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/util/error_line.h"
+#include "libvdbappear/util/system_memory.h"
 
 #include <fmt/format.h>
 #include <tbb/global_control.h>
@@ -165,6 +166,26 @@ nlohmann::json summaryJson(const MediumSummary& summary, const std::string& path
           {"file_bytes", fileSize(path)},
           {"voxel_size", summary.voxel_size},
           {"grids", grids}};
+}
+
+void SlabReading::addFlags(CLI::App& app) {
+  app.add_option("--memory", memory_gb,
+                 "GB: memory budget of reading in slabs (default: a quarter of the machine's memory, at most 4)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--in-core", in_core, "read the whole medium, not in slabs (the same result)");
+}
+
+std::uint64_t SlabReading::budgetBytes() const {
+  return memory_gb > 0 ? std::uint64_t(memory_gb * 1e9) : defaultMemoryBudget();
+}
+
+void SlabReading::report(const std::string& tool, const std::string& input, bool in_slabs, const std::string& why_not,
+                         const std::vector<std::string>& notes, bool verbose) const {
+  if (!in_slabs) {
+    if (verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", tool, input, why_not);
+    return;
+  }
+  for (const std::string& note : notes) fmt::print(stderr, "{}: note: {}\n", tool, note);
 }
 
 }  // namespace vdbappear::tool

@@ -2,12 +2,17 @@
 // What every vdbappear tool shares: one error line and a non-zero exit on failure, a thread limit,
 // and JSON reports written atomically.
 
+#include "libvdbappear/util/progress.h"
+
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace vdbappear {
 class ProcessGroup;
@@ -63,5 +68,38 @@ void checkDistinct(const std::string& input, const std::string& output, const st
 // Before any work: checkDistinct, then that OUT and the report (unless empty or "-") can be written
 // (checkWritable).
 void checkOutputs(const std::string& input, const std::string& output, const std::string& report);
+
+// Reading a medium file in slabs within a memory budget (docs/scaling.md §5): the flags --memory and
+// --in-core, and what the tool says about it.
+struct SlabReading {
+  double memory_gb = 0;  // 0: defaultMemoryBudget()
+  bool in_core = false;
+
+  void addFlags(CLI::App& app);
+  bool appliesTo(const std::string& input) const { return !in_core && input != "-"; }  // stdin is read whole
+  std::uint64_t budgetBytes() const;
+
+  // read(budget_bytes, &why_not, &progress), a library reduction in slabs that returns an optional
+  // result with the reader's notes, behind a progress bar labelled `label`; nullopt without calling
+  // it where the file is read whole (--in-core, stdin). Prints the notes, or with -v why the file was
+  // read whole.
+  template <typename Read>
+  auto run(const std::string& tool, const std::string& input, const char* label, bool verbose, const Read& read) const
+      -> decltype(read(std::uint64_t(0), static_cast<std::string*>(nullptr), static_cast<ProgressBar*>(nullptr))) {
+    if (!appliesTo(input)) return std::nullopt;
+    std::string why_not;
+    decltype(read(std::uint64_t(0), &why_not, static_cast<ProgressBar*>(nullptr))) result;
+    {
+      ProgressBar progress(label, 0);
+      result = read(budgetBytes(), &why_not, &progress);
+    }
+    report(tool, input, bool(result), why_not, result ? result->notes : std::vector<std::string>{}, verbose);
+    return result;
+  }
+
+ private:
+  void report(const std::string& tool, const std::string& input, bool in_slabs, const std::string& why_not,
+              const std::vector<std::string>& notes, bool verbose) const;
+};
 
 }  // namespace vdbappear::tool

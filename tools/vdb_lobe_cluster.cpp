@@ -12,7 +12,6 @@
 #include "libvdbappear/lobes/streamed_multi_lobe.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
-#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -30,7 +29,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_lobe_cluster -f 4 --lobes 2 --clusters 2 --memory 2 -v twill1024.vdb twill256_lobes.vdb
 
 A file is read in slabs along x, each as wide as fits in --memory (a quarter of the machine's memory
-by default, at most 4 GB), in two passes: each slab's lobes are fitted and the slab parked on disk
+by default, at most 4 GB; a slab too large is cut along y and z), in two passes: each slab's lobes are fitted and the slab parked on disk
 while its albedos join the clustering's table; then each is read back, its lobes ordered and weighed,
 and written leaf by leaf. Scratch files go in OUT's folder and are removed as they are made. The
 result is the same, bit for bit, as reading the medium whole (--in-core), which stdin (-) and files
@@ -47,31 +46,23 @@ struct Options {
   GridMapping mapping;  // --grid
   std::string input, output, report;
   MultiLobeOptions lobes;
-  double memory_gb = 0;  // 0: defaultMemoryBudget()
-  bool in_core = false, verbose = false;
+  tool::SlabReading slabs;  // --memory, --in-core
+  bool verbose = false;
 };
 
 // The file read in slabs (docs/scaling.md), or nullopt where it must be read whole.
 std::optional<StreamedMultiLobe> streamed(const Options& options) {
-  if (options.in_core || options.input == "-") return std::nullopt;
-  const std::uint64_t budget = options.memory_gb > 0 ? std::uint64_t(options.memory_gb * 1e9) : defaultMemoryBudget();
-  std::string why_not;
-  std::optional<StreamedMultiLobe> result;
-  {
-    ProgressBar progress("fitting lobes in slabs", 0);
-    result = downsampleMultiLobeStreamed(options.input, options.mapping, options.lobes, budget, &why_not, &progress,
-                                         options.output);
-  }
-  if (!result && options.verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", kTool, options.input, why_not);
-  if (result) {
-    for (const std::string& note : result->notes) fmt::print(stderr, "{}: note: {}\n", kTool, note);
-    if (options.verbose)
-      fmt::print(stderr,
-                 "{}: read in {} slab{} along x (budget {:.3g} GB; the largest slab's grids held {:.3g} GB; {:.3g} GB "
-                 "parked on disk between the passes; {} distinct albedos clustered, {:.3g} GB)\n",
-                 kTool, result->slabs, result->slabs == 1 ? "" : "s", budget / 1e9, result->largest_slab_bytes / 1e9,
-                 result->parked_bytes / 1e9, result->distinct_albedos, result->albedo_table_bytes / 1e9);
-  }
+  const auto result = options.slabs.run(kTool, options.input, "fitting lobes in slabs", options.verbose,
+                                        [&](std::uint64_t budget, std::string* why_not, ProgressBar* progress) {
+                                          return downsampleMultiLobeStreamed(options.input, options.mapping, options.lobes, budget,
+                                                      why_not, progress, options.output);
+                                        });
+  if (result && options.verbose)
+    fmt::print(stderr,
+               "{}: read in {} piece{} (budget {:.3g} GB; the largest piece's grids held {:.3g} GB; {:.3g} GB "
+               "parked on disk between the passes; {} distinct albedos clustered, {:.3g} GB)\n",
+               kTool, result->slabs, result->slabs == 1 ? "" : "s", options.slabs.budgetBytes() / 1e9, result->largest_slab_bytes / 1e9,
+               result->parked_bytes / 1e9, result->distinct_albedos, result->albedo_table_bytes / 1e9);
   return result;
 }
 
@@ -205,10 +196,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.clustering.seed, "seed of the K-means initialisations and the jitter")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--memory", options.memory_gb,
-                 "GB: memory budget of reading in slabs (default: a quarter of the machine's memory, at most 4)")
-      ->check(CLI::PositiveNumber);
-  app.add_flag("--in-core", options.in_core, "read the whole medium, not in slabs (the same result)");
+  options.slabs.addFlags(app);
   app.add_flag("-v,--verbose", options.verbose, "print the error against the lobe count, the clusters and timings to stderr");
   app.add_option("--report", options.report,
                  "write a JSON report (error against lobe count, lobe counts chosen, clusters, timings) to this file");

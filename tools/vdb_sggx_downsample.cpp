@@ -10,7 +10,6 @@
 #include "libvdbappear/io/medium_summary.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
-#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -31,7 +30,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_sggx_downsample -f 2 --memory 2 -v twill1024.vdb twill512.vdb
 
 A file is read in slabs along x, each as wide as fits in --memory (a quarter of the machine's memory
-by default, at most 4 GB), its topology indexed once a 128^3 node at a time (the 1024^3 twill in
+by default, at most 4 GB; a slab too large is cut along y and z), its topology indexed once a 128^3 node at a time (the 1024^3 twill in
 0.13 GB, about 700 bytes a node); the downsampled slabs wait on scratch files in OUT's folder (removed
 as they are made: nothing is left behind) and are written leaf by leaf. The result is the same, bit
 for bit, as reading the medium whole (--in-core), which stdin (-) and files that a grid mapping
@@ -46,28 +45,20 @@ struct Options {
   GridMapping mapping;  // --grid
   std::string input, output, report;
   DownsampleOptions downsample;
-  double memory_gb = 0;  // 0: defaultMemoryBudget()
-  bool in_core = false, verbose = false;
+  tool::SlabReading slabs;  // --memory, --in-core
+  bool verbose = false;
 };
 
 // The file read in slabs (docs/scaling.md), or nullopt where it must be read whole.
 std::optional<StreamedDownsample> streamed(const Options& options) {
-  if (options.in_core || options.input == "-") return std::nullopt;
-  const std::uint64_t budget = options.memory_gb > 0 ? std::uint64_t(options.memory_gb * 1e9) : defaultMemoryBudget();
-  std::string why_not;
-  std::optional<StreamedDownsample> result;
-  {
-    ProgressBar progress("downsampling slabs", 0);
-    result = downsampleNaiveStreamed(options.input, options.mapping, options.downsample, budget, &why_not, &progress,
-                                     options.output);
-  }
-  if (!result && options.verbose) fmt::print(stderr, "{}: note: {} is read whole: {}\n", kTool, options.input, why_not);
-  if (result) {
-    for (const std::string& note : result->notes) fmt::print(stderr, "{}: note: {}\n", kTool, note);
-    if (options.verbose)
-      fmt::print(stderr, "{}: read in {} slab{} along x (budget {:.3g} GB; the largest slab's grids held {:.3g} GB)\n",
-                 kTool, result->slabs, result->slabs == 1 ? "" : "s", budget / 1e9, result->largest_slab_bytes / 1e9);
-  }
+  const auto result = options.slabs.run(kTool, options.input, "downsampling slabs", options.verbose,
+                                        [&](std::uint64_t budget, std::string* why_not, ProgressBar* progress) {
+                                          return downsampleNaiveStreamed(options.input, options.mapping, options.downsample, budget,
+                                                      why_not, progress, options.output);
+                                        });
+  if (result && options.verbose)
+    fmt::print(stderr, "{}: read in {} piece{} (budget {:.3g} GB; the largest piece's grids held {:.3g} GB)\n",
+               kTool, result->slabs, result->slabs == 1 ? "" : "s", options.slabs.budgetBytes() / 1e9, result->largest_slab_bytes / 1e9);
   return result;
 }
 
@@ -140,10 +131,7 @@ int main(int argc, char** argv) {
                  "density (density-weighted mean)")
       ->transform(CLI::CheckedTransformer(weightings, CLI::ignore_case))
       ->default_str("count");
-  app.add_option("--memory", options.memory_gb,
-                 "GB: memory budget of reading in slabs (default: a quarter of the machine's memory, at most 4)")
-      ->check(CLI::PositiveNumber);
-  app.add_flag("--in-core", options.in_core, "read the whole medium, not in slabs (the same result)");
+  options.slabs.addFlags(app);
   app.add_flag("-v,--verbose", options.verbose, "print voxel counts, memory and timings to stderr");
   app.add_option("--report", options.report, "write a JSON report (voxel counts, bytes, timings) to this file");
   tool::addGridMapping(app, options.mapping);
