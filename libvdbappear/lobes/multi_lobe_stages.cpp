@@ -227,6 +227,8 @@ std::vector<NdfSamples> ndfOfLobes(const std::vector<SggxLobe>& lobes) {
 }
 
 void checkOptions(const MultiLobeOptions& options) {
+  if (options.factor < 2 || options.factor > kMaxDownsampleFactor)
+    throw std::invalid_argument(fmt::format("downsampling factor {} outside 2..{}", options.factor, kMaxDownsampleFactor));
   const LobeFitOptions& fit = options.fit;
   if (fit.max_lobes < 1 || fit.max_lobes > kMaxOrderedLobes || fit.forced_lobes < 0 || fit.forced_lobes > kMaxOrderedLobes)
     throw std::invalid_argument(fmt::format("lobe count outside 1..{}", kMaxOrderedLobes));

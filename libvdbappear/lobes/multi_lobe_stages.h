@@ -41,8 +41,11 @@ struct ReferenceCandidate {
 
 class MultiLobeStages {
  public:
-  // Throws std::invalid_argument for options out of range.
+  // Throws std::invalid_argument for options out of range (the factor included).
   explicit MultiLobeStages(const MultiLobeOptions& options);
+
+  // The lobe slots every part gets (the forced lobe count, or the cap), each four grids (lobe{j}_*).
+  int slotCount() const { return slot_count_; }
 
   // 1. The naive coarse part (count-weighted S). Throws MediumError as downsampleNaive does, for a
   // medium without SGGX grids and for one that already has lobes or clusters.

@@ -1,6 +1,5 @@
 #include "libvdbappear/lobes/streamed_multi_lobe.h"
 
-#include "libvdbappear/downsample/naive_downsample.h"
 #include "libvdbappear/io/medium_slabs.h"
 #include "libvdbappear/io/scratch_parts.h"
 #include "libvdbappear/io/spilled_medium.h"
@@ -10,7 +9,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <stdexcept>
 
 namespace vdbappear {
 
@@ -26,17 +24,15 @@ std::optional<StreamedMultiLobe> downsampleMultiLobeStreamed(const std::string& 
                                                             const MultiLobeOptions& options, std::uint64_t memory_bytes,
                                                             std::string* why_not, ProgressBar* progress,
                                                             const std::string& output) {
-  if (options.factor < 2 || options.factor > kMaxDownsampleFactor)
-    throw std::invalid_argument(fmt::format("downsampling factor {} outside 2..{}", options.factor, kMaxDownsampleFactor));
-  MultiLobeStages stages(options);
+  MultiLobeStages stages(options);  // checks the options
   MediumSlabs slabs(path, mapping);
   if (slabs.whyNotStreamed()) {
     if (why_not) *why_not = *slabs.whyNotStreamed();
     return std::nullopt;
   }
   const int band = 8 * options.factor;  // fine voxels per coarse leaf
-  const int slot_count = options.fit.forced_lobes > 0 ? options.fit.forced_lobes : options.fit.max_lobes;
-  const MediumSlabs::Plan plan = slabs.planWithin(band, memory_bytes, kSlabTargetBytes, 4 * slot_count + 1);
+  // The output's extra grids: four per lobe slot, and the cluster grid.
+  const MediumSlabs::Plan plan = slabs.planWithin(band, memory_bytes, kSlabTargetBytes, 4 * stages.slotCount() + 1);
   StreamedMultiLobe out;
   out.notes = slabs.notes();
   out.slabs = int(plan.slabs.size());

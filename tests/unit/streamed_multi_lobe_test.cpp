@@ -29,14 +29,10 @@ namespace {
 
 using openvdb::Coord;
 
-int slotsOf(const MultiLobeOptions& options) {
-  return options.fit.forced_lobes > 0 ? options.fit.forced_lobes : options.fit.max_lobes;
-}
-
 // The smallest budget that reads `path` for these options: what stays in memory and one band.
 std::uint64_t smallestBudget(const std::string& path, const MultiLobeOptions& options) {
   const MediumSlabs::Plan plan =
-      MediumSlabs(path, {}).plan(8 * options.factor, ~std::uint64_t(0), ~std::uint64_t(0), 4 * slotsOf(options) + 1);
+      MediumSlabs(path, {}).plan(8 * options.factor, ~std::uint64_t(0), ~std::uint64_t(0), 4 * MultiLobeStages(options).slotCount() + 1);
   return plan.resident_bytes + plan.largest_cell_bytes;
 }
 
