@@ -34,6 +34,8 @@ constexpr const char* kExamples = R"(Examples:
   vdb_render --scene scene.json -o out.exr --spp 64      (flags override the file)
   vdb_render houdini_smoke.vdb -o smoke.png --grid albedo=Cd --grid density=density:0.5   (foreign grid names)
   vdb_render fire.vdb -o fire.png --grid emission=flame:20    (a fire grid as emission, docs/medium.md 3b)
+  vdb_render twill1024.vdb -o twill.exr -v     (read in pieces into the compact form: float density, half-float
+      albedo and S, 26 bytes an active voxel; --full-precision holds the float grids: docs/rendering.md)
   mpirun -n 4 vdb_render velvet.vdb -o velvet.exr --res 1280x720 --spp 4096 -j 8   (ranks share the tiles;
       the same image at any rank count: docs/scaling.md)
   vdb_render --translucent-mesh bunny.obj --sss-density 2.2,2.6,3.0 --sss-albedo 0.999 --camera-pos 0,-4,1
@@ -54,7 +56,8 @@ struct Flags {
          sss_error = 0.03;
   int spp = 16, max_depth = -1, sss_light_samples = 64;
   std::uint64_t seed = 0;
-  bool ground = false, verbose = false, no_sggx = false, sh_unshadowed = false;
+  bool ground = false, verbose = false, no_sggx = false, sh_unshadowed = false, full_precision = false;
+  tool::SlabReading slabs;  // --memory, --in-core: how a medium file is read into the compact form
 };
 
 Vec3 vec3Of(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
@@ -244,6 +247,10 @@ void addFlags(CLI::App& app, Flags& f) {
                  "spent on each pixel: where the render's time goes, docs/scaling.md)")->delimiter(',');
   app.add_option("--report", f.report, "write a JSON report (time, paths/s, statistics); - for stdout");
   app.add_flag("-v,--verbose", f.verbose, "print a summary to stderr");
+  app.add_flag("--full-precision", f.full_precision,
+               "hold the medium in its float grids, read whole, instead of the compact form (float density, half-float "
+               "albedo and S: docs/rendering.md)");
+  f.slabs.addFlags(app);
 }
 
 nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera, const RenderResult& r,
@@ -293,6 +300,7 @@ nlohmann::json reportOf(const SceneDescription& scene, const CameraPose& camera,
     report["phase_function"] = phaseSourceName(medium->phaseSource());
     report["interp"] = interpolationName(medium->interpolation());
     report["majorant_voxels"] = medium->majorantVoxelCount();
+    report["medium_form"] = medium->compact() ? "compact" : "full precision";
     if (const std::uint64_t voxels = medium->instancedVoxelCount()) report["instanced_model_voxels"] = voxels;
   }
   return report;
@@ -311,6 +319,31 @@ nlohmann::json subsurfaceReport(const SceneDescription& scene, const SubsurfaceC
                        {"uncached_lookups", render_scene.translucent[i]->uncachedLookups()}});
   }
   return {{"cache_error", scene.subsurface.cache_error}, {"pass3_seconds", result.seconds}, {"objects", objects}};
+}
+
+// The medium as the render holds it (docs/rendering.md, "The render's medium in memory"): in the
+// compact form, read in pieces where the file allows it, else read whole and made compact; in its
+// float grids with --full-precision or where the compact form does not hold the medium's grids.
+std::shared_ptr<const MediumView> renderMedium(const Flags& flags, const std::string& path, const GridMapping& mapping,
+                                               Interpolation interpolation) {
+  const auto view_of = [&](const CompactMedium& compact) {
+    if (flags.verbose)
+      fmt::print(stderr, "{}: the medium in compact form: {} piece{} read, density {:.3g} GB, albedo and S {:.3g} GB\n", kTool,
+                 compact.pieces, compact.pieces == 1 ? "" : "s", compact.density_bytes / 1e9, compact.attribute_bytes / 1e9);
+    return std::make_shared<MediumView>(compact, interpolation, flags.no_sggx);
+  };
+  if (!flags.full_precision) {
+    const auto read = [&](std::uint64_t budget, std::string* why_not, ProgressBar* progress) {
+      return readCompactMedium(path, mapping, budget, why_not, progress);
+    };
+    if (const auto compact = flags.slabs.run(kTool, path, "reading the medium", flags.verbose, read)) return view_of(*compact);
+  }
+  const MediumPtr whole = tool::readInputMedium(kTool, path, mapping);
+  std::string why_not = "--full-precision";
+  if (!flags.full_precision)
+    if (const auto compact = compactMedium(whole, &why_not)) return view_of(*compact);
+  if (flags.verbose) fmt::print(stderr, "{}: note: the medium is rendered from its float grids: {}\n", kTool, why_not);
+  return std::make_shared<MediumView>(whole, interpolation, flags.no_sggx);
 }
 
 // Everything a render needs, prepared on every rank of the group alike.
@@ -340,7 +373,7 @@ RenderJob prepareJob(const CLI::App& app, const Flags& flags, const GridMapping&
   if (group.isShared() && scene.medium == "-")
     throw std::runtime_error(fmt::format("a medium on stdin reaches one rank of {}: give a file every rank can read", group.size()));
   if (!scene.medium.empty())
-    job.medium = std::make_shared<MediumView>(tool::readInputMedium(kTool, scene.medium, mapping), scene.interpolation, flags.no_sggx);
+    job.medium = renderMedium(flags, scene.medium, mapping, scene.interpolation);
   const MediumView* medium = job.medium.get();
   // The checks that need no surfaces first: pass 1 of translucent objects runs in buildRenderScene.
   job.pose = cameraOf(scene, medium);

@@ -4,6 +4,7 @@
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/math/block_index.h"
 #include "libvdbappear/math/sggx.h"
+#include "libvdbappear/medium/compact_attributes.h"
 
 #include <Eigen/Eigenvalues>
 #include <openvdb/tree/LeafManager.h>
@@ -28,13 +29,23 @@ const char* interpolationName(Interpolation interpolation) {
 
 namespace {
 
-double largestEigenvalue(const openvdb::Vec3s& diag, const openvdb::Vec3s& offdiag) {
-  const Mat3 S = sggxMatrix(Vec3(diag[0], diag[1], diag[2]), Vec3(offdiag[0], offdiag[1], offdiag[2]));
+double largestEigenvalue(const Mat3& S) {
   Eigen::SelfAdjointEigenSolver<Mat3> solver;
   solver.computeDirect(S, Eigen::EigenvaluesOnly);
   // computeDirect is accurate to a few ulps relative to the norm; pad so the bound stays a bound.
   return solver.eigenvalues().maxCoeff() * (1 + 1e-6) + 1e-12 * S.norm();
 }
+
+double largestEigenvalue(const openvdb::Vec3s& diag, const openvdb::Vec3s& offdiag) {
+  return largestEigenvalue(sggxMatrix(Vec3(diag[0], diag[1], diag[2]), Vec3(offdiag[0], offdiag[1], offdiag[2])));
+}
+
+// Where S comes from: the medium's SGGX grids, or a compact medium's records.
+struct SggxSource {
+  const Medium& medium;
+  const CompactAttributes* records;
+  bool anisotropic() const { return medium.hasSggx() || (records && records->hasSggx()); }
+};
 
 struct LeafBound {
   float max_rho_sqrt_lambda = 0;  // the nearest-lookup bound (with_lambda only)
@@ -48,7 +59,10 @@ using LeafBounds = std::array<LeafBound, kBlocksPerLeaf>;
 // The bounds of the majorant blocks of one 8^3 leaf of density (a leaf, or part of a tile).
 // with_lambda: compute the nearest-lookup bound (trilinear lookups bound their grown blocks later,
 // and only need to know which blocks hold density).
-LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin, bool with_lambda) {
+LeafBounds boundsOfLeaf(const SggxSource& sggx, const openvdb::Coord& origin, bool with_lambda) {
+  const Medium& medium = sggx.medium;
+  std::optional<CompactAttributes::Accessor> records;
+  if (sggx.records) records.emplace(*sggx.records);
   const LeafValues<openvdb::FloatTree> rho(medium.density->tree(), origin);
   const auto diag = medium.sggx_diag ? LeafValues<openvdb::Vec3STree>(medium.sggx_diag->tree(), origin)
                                      : LeafValues<openvdb::Vec3STree>(openvdb::Vec3s(1.0f));
@@ -59,7 +73,9 @@ LeafBounds boundsOfLeaf(const Medium& medium, const openvdb::Coord& origin, bool
   for (openvdb::Index i = 0; i < openvdb::FloatTree::LeafNodeType::SIZE; ++i) {
     const double r = rho[i];
     if (!(r > 0) || (leaf && !leaf->isValueOn(i))) continue;  // inactive voxels are empty space
-    const double lambda = with_lambda && medium.hasSggx() ? largestEigenvalue(diag[i], offdiag[i]) : 1.0;
+    const double lambda = !with_lambda || !sggx.anisotropic() ? 1.0
+                          : records ? largestEigenvalue(sggxOf(records->at(*leaf, i)))  // a compact medium has no tiles
+                                    : largestEigenvalue(diag[i], offdiag[i]);
     // Leaf offsets are x-major: i = 64 x + 8 y + z.
     const int x = int(i >> 6) / kMajorantBlock, y = int((i >> 3) & 7) / kMajorantBlock, z = int(i & 7) / kMajorantBlock;
     LeafBound& bound = bounds[(x * kBlocksPerLeafAxis + y) * kBlocksPerLeafAxis + z];
@@ -87,11 +103,12 @@ std::vector<openvdb::Coord> densityBlocks(const openvdb::FloatTree& tree) {
 
 namespace {
 
-openvdb::FloatGrid::Ptr buildExtinctionMajorant(const Medium& medium, Interpolation interpolation) {
+openvdb::FloatGrid::Ptr buildExtinctionMajorant(const SggxSource& sggx, Interpolation interpolation) {
+  const Medium& medium = sggx.medium;
   const std::vector<openvdb::Coord> origins = densityBlocks(medium.density->tree());
   std::vector<LeafBounds> leaf_bounds(origins.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size(), 16), [&](const auto& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) leaf_bounds[i] = boundsOfLeaf(medium, origins[i], interpolation == Interpolation::kNearest);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) leaf_bounds[i] = boundsOfLeaf(sggx, origins[i], interpolation == Interpolation::kNearest);
   });
   // Flatten to (block coordinate, bound).
   std::vector<openvdb::Coord> blocks;
@@ -134,6 +151,18 @@ openvdb::FloatGrid::Ptr buildExtinctionMajorant(const Medium& medium, Interpolat
     std::optional<openvdb::Vec3SGrid::ConstAccessor> diag_values, off_values;
     if (medium.sggx_diag) diag_values = medium.sggx_diag->getConstAccessor();
     if (medium.sggx_offdiag) off_values = medium.sggx_offdiag->getConstAccessor();
+    std::optional<CompactAttributes::Accessor> records;
+    if (sggx.records) records.emplace(*sggx.records);
+    const auto lambdaAt = [&](const openvdb::Coord& ijk) {
+      if (!sggx.anisotropic()) return 1.0;
+      if (records) {
+        const auto* leaf = rho.probeConstLeaf(ijk);  // active: a compact medium has no tiles
+        return largestEigenvalue(sggxOf(records->at(*leaf, openvdb::FloatTree::LeafNodeType::coordToOffset(ijk))));
+      }
+      const openvdb::Vec3s diag = diag_values ? diag_values->getValue(ijk) : openvdb::Vec3s(1.0f);
+      const openvdb::Vec3s off = off_values ? off_values->getValue(ijk) : openvdb::Vec3s(0.0f);
+      return largestEigenvalue(diag, off);
+    };
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const openvdb::Coord& a = regions[i];
       const openvdb::Coord lo(a.x() * kMajorantBlock - 1, a.y() * kMajorantBlock - 1, a.z() * kMajorantBlock - 1);
@@ -145,9 +174,7 @@ openvdb::FloatGrid::Ptr buildExtinctionMajorant(const Medium& medium, Interpolat
             float r = 0;
             if (!rho.probeValue(ijk, r) || !(r > 0)) continue;
             max_rho = std::max(max_rho, double(r));
-            const openvdb::Vec3s diag = diag_values ? diag_values->getValue(ijk) : openvdb::Vec3s(1.0f);
-            const openvdb::Vec3s off = off_values ? off_values->getValue(ijk) : openvdb::Vec3s(0.0f);
-            max_lambda = std::max(max_lambda, medium.hasSggx() ? largestEigenvalue(diag, off) : 1.0);
+            max_lambda = std::max(max_lambda, lambdaAt(ijk));
           }
       values[i] = float(max_rho * std::sqrt(max_lambda) * (1 + 1e-6));
     }
@@ -179,8 +206,9 @@ std::vector<openvdb::Coord> emittingBlocks(const openvdb::Vec3SGrid& emission, I
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation, const openvdb::Vec3SGrid* emission) {
-  openvdb::FloatGrid::Ptr majorant = buildExtinctionMajorant(medium, interpolation);
+openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation, const openvdb::Vec3SGrid* emission,
+                                          const CompactAttributes* records) {
+  openvdb::FloatGrid::Ptr majorant = buildExtinctionMajorant(SggxSource{medium, records}, interpolation);
   if (!emission) return majorant;
   const openvdb::Vec3d h = medium.transform().voxelSize();
   const float floor = float(1 / std::min({h[0], h[1], h[2]}));

@@ -25,6 +25,7 @@
 namespace vdbappear {
 
 struct Medium;
+class CompactAttributes;
 
 // kNearest: the maximum of rho sqrt(lambda_max(S)) over the leaf's voxels.
 // kTrilinear: a trilinear lookup mixes a voxel with its neighbours, and the density-weighted S is
@@ -37,7 +38,10 @@ inline constexpr int kMajorantBlock = 4;
 // cycles convention). Over the blocks whose lookups read an emitting voxel the majorant is raised
 // to at least 1 / h (h the shortest voxel edge), so that delta tracking meets emission where the
 // density is 0, about once per voxel length.
+// records: S from a compact medium's records (medium/compact_attributes.h), as the render reads it,
+// instead of from the medium's SGGX grids.
 openvdb::FloatGrid::Ptr buildMajorantGrid(const Medium& medium, Interpolation interpolation,
-                                          const openvdb::Vec3SGrid* emission = nullptr);
+                                          const openvdb::Vec3SGrid* emission = nullptr,
+                                          const CompactAttributes* records = nullptr);
 
 }  // namespace vdbappear

@@ -3,6 +3,7 @@
 #include "libvdbappear/io/emission_convention.h"
 #include "libvdbappear/io/medium.h"
 #include "libvdbappear/io/phase_tables.h"
+#include "libvdbappear/medium/compact_attributes.h"
 #include "libvdbappear/medium/emission_light.h"
 #include "libvdbappear/medium/majorant_grid.h"
 #include "libvdbappear/medium/majorant_traversal.h"
@@ -62,7 +63,10 @@ struct MediumView::Impl {
   PrincipledBlackbody blackbody;
   std::optional<BlackbodyTable> blackbody_colours;  // made only for a medium with blackbody_temperature
   EmissionConvention emission_convention = EmissionConvention::kCycles;
+  std::shared_ptr<const CompactAttributes> records;  // a compact medium's albedo and S (medium/compact_attributes.h)
+  bool records_sggx = false;                          // S from the records (not ignored)
 
+  bool hasSggx() const { return medium->hasSggx() || records_sggx; }
   bool emits() const { return emission || blackbody_temperature; }
   Rgb blackbodyLight(double kelvin) const {  // Principled Volume's light at this temperature
     return blackbody_temperature ? principledBlackbodyEmission(kelvin, blackbody, *blackbody_colours) : Rgb(Rgb::Zero());
@@ -134,7 +138,7 @@ void MediumView::Impl::findBounds() {
 void MediumView::Impl::findPhaseSource() {
   if (findOtherGrid<openvdb::Vec3SGrid>(*medium, "lobe0_weight")) {
     phase_source = PhaseSource::kLobes;
-  } else if (medium->hasSggx()) {
+  } else if (hasSggx()) {
     phase_source = PhaseSource::kSggx;
   } else if (findOtherGrid<openvdb::FloatGrid>(*medium, grid_names::kPhaseTable)) {
     phase_source = PhaseSource::kTable;
@@ -204,8 +208,19 @@ void MediumView::Impl::readClusters() {
   }
 }
 
+MediumView::MediumView(const CompactMedium& medium, Interpolation interpolation, bool ignore_sggx)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->records = medium.attributes;
+  impl_->records_sggx = medium.attributes && medium.attributes->hasSggx() && !ignore_sggx;
+  build(medium.medium, interpolation, ignore_sggx);
+}
+
 MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignore_sggx)
     : impl_(std::make_unique<Impl>()) {
+  build(std::move(medium), interpolation, ignore_sggx);
+}
+
+void MediumView::build(MediumPtr medium, Interpolation interpolation, bool ignore_sggx) {
   if (ignore_sggx && medium->hasSggx()) {  // lobe grids are ignored below
     medium = std::make_shared<Medium>(*medium);  // shares the grids
     medium->sggx_diag = nullptr;
@@ -216,7 +231,8 @@ MediumView::MediumView(MediumPtr medium, Interpolation interpolation, bool ignor
   impl_->readEmission();
   const bool emits_where_empty = impl_->emits() && impl_->emission_convention == EmissionConvention::kCycles;
   impl_->majorant = buildMajorantGrid(*impl_->medium, interpolation,
-                                      emits_where_empty ? voxelEmission(*impl_->medium).get() : nullptr);
+                                      emits_where_empty ? voxelEmission(*impl_->medium).get() : nullptr,
+                                      impl_->records_sggx ? impl_->records.get() : nullptr);
   impl_->findInstances();
   impl_->findTransform();
   impl_->findBounds();
@@ -243,6 +259,7 @@ std::uint64_t MediumView::instancedVoxelCount() const {
   return impl_->instances ? impl_->instances->modelVoxelCount(*impl_->medium->density) : 0;
 }
 const std::string& MediumView::source() const { return impl_->medium->source; }
+bool MediumView::compact() const { return impl_->records != nullptr; }
 std::unique_ptr<MediumLookup> MediumView::lookup() const { return std::make_unique<MediumLookup>(*impl_); }
 
 // ---------------------------------------------------------------------------------------------
@@ -272,6 +289,8 @@ struct MediumLookup::Accessors {
   OptionalAccessor<openvdb::Vec3SGrid> emission;
   OptionalAccessor<openvdb::FloatGrid> temperature;
   std::vector<LobeAccessors> lobes;
+  std::optional<CompactAttributes::Accessor> records;  // a compact medium's albedo and S
+  bool records_sggx = false;
 
   explicit Accessors(const MediumView::Impl& view)
       : instances(view.instances ? &*view.instances : nullptr),
@@ -288,6 +307,16 @@ struct MediumLookup::Accessors {
     for (const LobeGrids& lobe : view.lobes)
       lobes.push_back({lobe.diag->getConstAccessor(), accessorOf<openvdb::Vec3SGrid>(lobe.offdiag),
                        lobe.weight->getConstAccessor()});
+    if (view.records) records.emplace(*view.records);
+    records_sggx = view.records_sggx;
+  }
+
+  // A compact medium's record of voxel ijk (of the medium's grids), null where the density is inactive.
+  const CompactVoxel* record(const openvdb::Coord& ijk) {
+    const openvdb::FloatTree::LeafNodeType* leaf = density.probeConstLeaf(ijk);
+    if (!leaf) return nullptr;
+    const openvdb::Index n = openvdb::FloatTree::LeafNodeType::coordToOffset(ijk);
+    return leaf->isValueOn(n) ? &records->at(*leaf, n) : nullptr;
   }
 
   // The voxel of the medium's grids that model voxel v reads: v itself, or through an instanced
@@ -295,6 +324,10 @@ struct MediumLookup::Accessors {
   openvdb::Coord at(const openvdb::Coord& v) const { return instances ? (*instances)(v) : v; }
 
   Mat3 S(const openvdb::Coord& v) {
+    if (records_sggx) {
+      const CompactVoxel* r = record(at(v));
+      return r ? sggxOf(*r) : Mat3::Identity();
+    }
     if (!diag) return Mat3::Identity();
     const openvdb::Coord ijk = at(v);
     const openvdb::Vec3s off = offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f);
@@ -305,7 +338,13 @@ struct MediumLookup::Accessors {
     float value = 0;
     return density.probeValue(at(v), value) ? value : 0.0;
   }
-  Rgb albedoAt(const openvdb::Coord& v) { return albedo ? toRgb(albedo->getValue(at(v))) : Rgb::Ones(); }
+  Rgb albedoAt(const openvdb::Coord& v) {
+    if (records) {
+      const CompactVoxel* r = record(at(v));
+      return r ? albedoOf(*r) : Rgb(Rgb::Ones());  // inactive voxels are empty space: their albedo is not used
+    }
+    return albedo ? toRgb(albedo->getValue(at(v))) : Rgb::Ones();
+  }
   int tableId(const openvdb::Coord& v, int background) {  // checked in readTables
     int id = background;
     return phase_id->probeValue(at(v), id) ? id : background;
@@ -327,6 +366,10 @@ double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w);
 }  // namespace
 
 double MediumLookup::Accessors::wSw(const openvdb::Coord& v, const Vec3& w) {
+  if (records_sggx) {
+    const CompactVoxel* r = record(at(v));
+    return r ? wSwOf(*r, w) : 1.0;
+  }
   if (!diag) return 1;
   const openvdb::Coord ijk = at(v);
   return wSwOf(diag->getValue(ijk), offdiag ? offdiag->getValue(ijk) : openvdb::Vec3s(0.0f), w);
@@ -397,6 +440,17 @@ bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stenci
   if ((base.x() & 7) == 7 || (base.y() & 7) == 7 || (base.z() & 7) == 7) return false;
   const auto* density = a.density.probeConstLeaf(base);
   if (!density) return false;
+  if (a.records_sggx) {  // a compact medium: S from the density leaf's records
+    const openvdb::Index origin = openvdb::FloatTree::LeafNodeType::coordToOffset(base);
+    for (int c = 0; c < 8; ++c) {
+      const openvdb::Index i = origin + ((c & 1) << 6) + ((c & 2) << 2) + ((c & 4) >> 2);
+      const double r = density->getValue(i);
+      if (!(r > 0) || !density->isValueOn(i)) continue;
+      *rho += stencil.weight[c] * r;
+      *rho_wSw += stencil.weight[c] * r * std::max(0.0, wSwOf(a.records->at(*density, i), w));
+    }
+    return true;
+  }
   const openvdb::Vec3STree::LeafNodeType* diag = a.diag ? a.diag->probeConstLeaf(base) : nullptr;
   const openvdb::Vec3STree::LeafNodeType* offdiag = a.offdiag ? a.offdiag->probeConstLeaf(base) : nullptr;
   if ((a.diag && !diag) || (a.offdiag && !offdiag)) return false;

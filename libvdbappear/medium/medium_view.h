@@ -7,6 +7,7 @@
 // by all threads; each thread makes its own MediumLookup (OpenVDB accessors are not thread-safe).
 
 #include "libvdbappear/io/medium_file.h"
+#include "libvdbappear/medium/compact_medium.h"
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/medium/interpolation.h"
 #include "libvdbappear/medium/scattering_function.h"
@@ -54,6 +55,9 @@ class MediumView {
   // ignore_sggx: render as if the medium had no SGGX grids, base or lobe (S = I, isotropic
   // scattering), for comparisons with renderers that lack SGGX.
   MediumView(MediumPtr medium, Interpolation interpolation, bool ignore_sggx = false);
+  // The same view of a medium in its compact form (medium/compact_medium.h): albedo and S read from
+  // its records, as half floats.
+  MediumView(const CompactMedium& medium, Interpolation interpolation, bool ignore_sggx = false);
   ~MediumView();
   MediumView(const MediumView&) = delete;
   MediumView& operator=(const MediumView&) = delete;
@@ -68,12 +72,14 @@ class MediumView {
   // An instanced model (docs/modularity.md): the voxels it would have if built; 0 for other media.
   std::uint64_t instancedVoxelCount() const;
   const std::string& source() const;
+  bool compact() const;  // made from a CompactMedium
 
   std::unique_ptr<MediumLookup> lookup() const;
 
   struct Impl;
 
  private:
+  void build(MediumPtr medium, Interpolation interpolation, bool ignore_sggx);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -132,7 +132,9 @@ TEST(LobeClusterCli, OneLobeRendersLikeTheNaiveMediumThroughPipes) {
   TempDir dir;
   const std::string naive = dir.path("naive.exr"), lobes = dir.path("lobes.exr");
   const std::string make = kMakeMedium + " twill --yarns 2 --res 48 -o - | ";
-  const std::string render = " - --res 24 --spp 8 --seed 2 --view +z --sun 0.3,0.2,-1,3 --env 0.2 -o ";
+  // Both media in their float grids: the naive one would otherwise be rendered in the compact form
+  // (half-float S), which the lobe grids do not take.
+  const std::string render = " - --full-precision --res 24 --spp 8 --seed 2 --view +z --sun 0.3,0.2,-1,3 --env 0.2 -o ";
   auto r = runCommand(make + kDownsample + " -f 4 - - | " + kRender + render + quote(naive));
   ASSERT_EQ(r.status, 0) << r.err;
   r = runCommand(make + kLobeCluster + " -f 4 --lobes 1 - - | " + kRender + render + quote(lobes));

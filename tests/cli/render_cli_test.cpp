@@ -164,6 +164,46 @@ TEST(RenderCli, SameImageWithOneThreadOrAll) {
   EXPECT_EQ(readImageChannels(a).values, readImageChannels(b).values);
 }
 
+// The medium is held in its compact form (docs/rendering.md), read in pieces: the same image, bit for
+// bit, as the whole read made compact (--in-core) and as stdin; --full-precision renders the float
+// grids; a medium whose grids the compact form does not hold is rendered from them, and -v says why.
+TEST(RenderCli, TheMediumIsHeldCompactAndReadInPieces) {
+  TempDir dir;
+  const std::string twill = dir.path("twill.vdb");
+  ASSERT_EQ(runCommand(quote(VDB_MAKE_MEDIUM) + " twill --yarns 2 --res 64 -o " + quote(twill)).status, 0);
+  const std::string args = " --res 24 --spp 2 --seed 3 --view +z --sun 0.3,0.2,-1,3 -v --report ";
+  const auto render = [&](const std::string& input, const std::string& flags, const std::string& name) {
+    const auto r = runCommand(input + flags + args + quote(dir.path(name + ".json")) + " -o " + quote(dir.path(name + ".exr")));
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream report(dir.path(name + ".json"));
+    return std::make_pair(r.err, nlohmann::json::parse(report)["medium_form"].get<std::string>());
+  };
+  const auto [pieces_err, pieces_form] = render(kRender + " " + quote(twill), " --memory 0.004", "pieces");
+  const std::size_t said = pieces_err.find("the medium in compact form: ");
+  ASSERT_NE(said, std::string::npos) << pieces_err;
+  EXPECT_GE(std::stoi(pieces_err.substr(said + 28)), 4) << pieces_err;
+  EXPECT_EQ(pieces_form, "compact");
+  const auto [whole_err, whole_form] = render(kRender + " " + quote(twill), " --in-core", "whole");
+  EXPECT_NE(whole_err.find("the medium in compact form: 1 piece read"), std::string::npos) << whole_err;
+  render("cat " + quote(twill) + " | " + kRender + " -", "", "stdin");
+  const auto [full_err, full_form] = render(kRender + " " + quote(twill), " --full-precision", "full");
+  EXPECT_NE(full_err.find("rendered from its float grids: --full-precision"), std::string::npos) << full_err;
+  EXPECT_EQ(full_form, "full precision");
+  const std::vector<float> pieces = readImageChannels(dir.path("pieces.exr")).values;
+  EXPECT_EQ(pieces, readImageChannels(dir.path("whole.exr")).values);
+  EXPECT_EQ(pieces, readImageChannels(dir.path("stdin.exr")).values);
+  EXPECT_NE(pieces, readImageChannels(dir.path("full.exr")).values) << "half-float albedo and S";
+
+  MediumPtr emitting = readMedium(std::string(GOLDEN_DIR) + "/cube8.vdb");
+  auto emission = test::namedGridLike<openvdb::Vec3SGrid>(*emitting, "emission", openvdb::Vec3s(0.0f));
+  emission->tree().setValueOn(openvdb::Coord(2, 2, 2), openvdb::Vec3s(1.0f));
+  emitting->other_grids.push_back(emission);
+  writeMedium(*emitting, dir.path("emitting.vdb"), "test");
+  const auto [emitting_err, emitting_form] = render(kRender + " " + quote(dir.path("emitting.vdb")), "", "emitting");
+  EXPECT_NE(emitting_err.find("grids the compact form does not hold: 'emission'"), std::string::npos) << emitting_err;
+  EXPECT_EQ(emitting_form, "full precision");
+}
+
 TEST(RenderCli, ClusterAovMarksWhereEachClusterIsVisible) {
   TempDir dir;
   const std::string medium = dir.path("clusters.vdb"), out = dir.path("c.exr");
