@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt
 COMMANDS = [("make", "vdb_make_medium"), ("downsample_in_core", "downsample, whole"),
             ("downsample_slabs", "downsample, in slabs"), ("vdb_lod_density", "vdb_lod, density"),
             ("lobe_cluster_in_core", "vdb_lobe_cluster, whole"), ("lobe_cluster_slabs", "vdb_lobe_cluster, in slabs"),
-            ("render", "vdb_render 64x64")]
+            ("render", "vdb_render 64x64, compact"), ("render_full", "vdb_render 64x64, float grids")]
 
 
 def main():

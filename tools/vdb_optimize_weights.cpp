@@ -81,6 +81,9 @@ void addFlags(CLI::App& app, Flags& f) {
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--cache", f.cache, "folder of cached reference images (default: $VDBAPPEAR_CACHE, else "
                                      "$XDG_CACHE_HOME/vdbappear, else ~/.cache/vdbappear)");
+  app.add_flag("--full-precision", o.full_precision,
+               "render FULL's references from its float grids, read whole, instead of its compact form (half-float "
+               "albedo and S, read in pieces: docs/rendering.md)");
   app.add_flag("--no-cache", f.no_cache, "render the references without reading or writing a cache");
   app.add_option("--log", o.log, "JSON-lines log: one line per iteration (t, E, factors, gradient, steps, seconds)");
   app.add_option("--checkpoint", o.checkpoint, "write the optimiser's state here after every iteration");

@@ -76,9 +76,19 @@ void CompactAttributes::add(const Medium& piece) {
       const auto offdiag = piece.sggx_offdiag ? LeafValues<openvdb::Vec3STree>(piece.sggx_offdiag->tree(), origin)
                                               : LeafValues<openvdb::Vec3STree>(defaults::kSggxOffdiag);
       CompactVoxel* record = added.records.get() + first[i];
+      openvdb::Index previous = 0;
       for (auto v = leaf.cbeginValueOn(); v; ++v) {
         const openvdb::Index n = v.pos();
-        *record++ = compactVoxel(albedo[n], diag[n], offdiag[n]);
+        // Neighbours often share S and albedo (a tile, a constant grid, a uniform fibre): one
+        // eigen-decomposition for a run of them.
+        if (record > added.records.get() + first[i] && albedo[n] == albedo[previous] && diag[n] == diag[previous] &&
+            offdiag[n] == offdiag[previous]) {
+          *record = record[-1];
+          ++record;
+        } else {
+          *record++ = compactVoxel(albedo[n], diag[n], offdiag[n]);
+        }
+        previous = n;
       }
       added.leaves[i] = LeafRecords(added.records.get() + first[i], leaf.getValueMask());
     }

@@ -28,6 +28,7 @@
 #include <openvdb/math/Half.h>
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -58,6 +59,11 @@ inline Mat3 rotationOf(const CompactVoxel& v) {
   return R;
 }
 Mat3 sggxOf(const CompactVoxel& v);      // R diag(sigma^2) R^T
+// The largest eigenvalue of sggxOf(v): the largest sigma^2 (R is orthonormal to double rounding).
+inline double largestEigenvalueOf(const CompactVoxel& v) {
+  const double s = std::max({float(v.sigma[0]), float(v.sigma[1]), float(v.sigma[2])});
+  return s * s;
+}
 // w^T S w = sum_i (sigma_i r_i . w)^2, r_i the columns of R.
 inline double wSwOf(const CompactVoxel& v, const Vec3& w) {
   const Vec3 local = rotationOf(v).transpose() * w;

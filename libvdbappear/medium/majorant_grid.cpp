@@ -74,7 +74,7 @@ LeafBounds boundsOfLeaf(const SggxSource& sggx, const openvdb::Coord& origin, bo
     const double r = rho[i];
     if (!(r > 0) || (leaf && !leaf->isValueOn(i))) continue;  // inactive voxels are empty space
     const double lambda = !with_lambda || !sggx.anisotropic() ? 1.0
-                          : records ? largestEigenvalue(sggxOf(records->at(*leaf, i)))  // a compact medium has no tiles
+                          : records ? largestEigenvalueOf(records->at(*leaf, i)) * (1 + 1e-6)  // a compact medium has no tiles
                                     : largestEigenvalue(diag[i], offdiag[i]);
     // Leaf offsets are x-major: i = 64 x + 8 y + z.
     const int x = int(i >> 6) / kMajorantBlock, y = int((i >> 3) & 7) / kMajorantBlock, z = int(i & 7) / kMajorantBlock;
@@ -157,7 +157,7 @@ openvdb::FloatGrid::Ptr buildExtinctionMajorant(const SggxSource& sggx, Interpol
       if (!sggx.anisotropic()) return 1.0;
       if (records) {
         const auto* leaf = rho.probeConstLeaf(ijk);  // active: a compact medium has no tiles
-        return largestEigenvalue(sggxOf(records->at(*leaf, openvdb::FloatTree::LeafNodeType::coordToOffset(ijk))));
+        return largestEigenvalueOf(records->at(*leaf, openvdb::FloatTree::LeafNodeType::coordToOffset(ijk))) * (1 + 1e-6);
       }
       const openvdb::Vec3s diag = diag_values ? diag_values->getValue(ijk) : openvdb::Vec3s(1.0f);
       const openvdb::Vec3s off = off_values ? off_values->getValue(ijk) : openvdb::Vec3s(0.0f);

@@ -9,6 +9,7 @@
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
+#include "libvdbappear/util/system_memory.h"
 #include "libvdbappear/version.h"
 
 #include <fmt/format.h>
@@ -58,12 +59,32 @@ std::string statusOf(const WeightOptimizer& optimizer) {
 // What addresses FULL in the reference cache and the checkpoints: its bytes, and the grid mapping it
 // was read with, if any (a mapping makes another medium of the same file): the explicit rules and
 // a preset's, detected or not.
-std::string fullMediumKey(const std::string& path, const Medium& full) {
+// compact: the references are renders of FULL's compact form (half-float albedo and S), which differ
+// from its float grids' within Monte Carlo error but not bit for bit.
+std::string fullMediumKey(const std::string& path, const Medium& full, bool compact) {
   const std::string bytes = hashFile(path);
-  if (full.grid_rules.empty()) return bytes;
+  if (full.grid_rules.empty() && !compact) return bytes;
   std::string key = bytes;
   for (const GridRule& rule : full.grid_rules) key += " --grid " + gridRuleText(rule);
+  if (compact) key += " compact";
   return hashText(key);
+}
+
+// FULL as its references render it: the compact form, read in pieces where the file allows, else read
+// whole and made compact; its float grids with full_precision or where the compact form does not hold it.
+std::shared_ptr<const MediumView> fullView(const WeightOptimizationOptions& options, MediumPtr* full) {
+  if (!options.full_precision) {
+    std::string why_not;
+    if (const auto compact = readCompactMedium(options.full, options.full_mapping, defaultMemoryBudget(), &why_not)) {
+      *full = compact->medium;
+      (*full)->read_notes = compact->notes;
+      return std::make_shared<MediumView>(*compact, options.interpolation);
+    }
+  }
+  *full = readMedium(options.full, options.full_mapping);
+  if (!options.full_precision)
+    if (const auto compact = compactMedium(*full, nullptr)) return std::make_shared<MediumView>(*compact, options.interpolation);
+  return std::make_shared<MediumView>(*full, options.interpolation);
 }
 
 }  // namespace
@@ -76,6 +97,7 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
   const bool root = group.isRoot();
   // The inputs, read by every rank: a rank that cannot read them ends every rank here.
   MediumPtr full, lobes;
+  std::shared_ptr<const MediumView> full_view;
   LobeMediumLayout layout;
   int factor = 0;
   std::string full_hash;
@@ -84,18 +106,17 @@ WeightOptimizationResult optimizeWeights(const WeightOptimizationOptions& option
       throw MediumError("FULL must be a file, not stdin: its bytes address the cache of reference images");
     if (group.isShared() && options.lobes == "-")
       throw MediumError(fmt::format("LOBES on stdin reaches one rank of {}: give a file every rank can read", group.size()));
-    full = readMedium(options.full, options.full_mapping);
+    full_view = fullView(options, &full);
     lobes = readMedium(options.lobes);
     layout = inspectLobeMedium(*lobes);
     factor = downsamplingFactor(*full, *lobes);
-    full_hash = fullMediumKey(options.full, *full);
+    full_hash = fullMediumKey(options.full, *full, full_view->compact());
   });
   if (root)
     for (const std::string& line : full->read_notes) note(line);
 
   OptimizerSettings settings = options.optimizer;
   settings.mode = options.mode.value_or(layout.coloured ? ColourMode::kColourScales : ColourMode::kGrey);
-  const auto full_view = std::make_shared<MediumView>(full, options.interpolation);
   const auto lobes_view = std::make_shared<MediumView>(lobes, options.interpolation);
   // Framed on the reduced medium's box, which holds the full one's (docs/medium.md §2): a training
   // ground at its bottom lies under both media.

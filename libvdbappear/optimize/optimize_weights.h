@@ -33,6 +33,9 @@ struct WeightOptimizationOptions {
   int resolution = 100;                   // training images: pixels on the long side
   TrainingRenderSettings references;
   Interpolation interpolation = Interpolation::kNearest;
+  // FULL's renders (the references) from its float grids, read whole, instead of its compact form
+  // read in pieces (medium/compact_medium.h, docs/rendering.md).
+  bool full_precision = false;
   std::string cache;                      // reference cache folder; "" for none
   std::string log, checkpoint, resume;    // files; "" for none
   std::string history_line;               // appended to OUT's history

@@ -115,6 +115,9 @@ TEST(OptimizeWeightsCli, SecondRunFindsTheReferencesInTheCache) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(readJson(report)["cache_hits"], readJson(report)["references"]);
   EXPECT_NE(r.err.find("references: 20 of 20 from the cache"), std::string::npos) << r.err;
+  // FULL's float grids (--full-precision) render other references than its compact form: not found.
+  ASSERT_EQ(runCommand(m.args("--iterations 1 --full-precision --cache " + quote(cache) + " --report " + quote(report))).status, 0);
+  EXPECT_EQ(readJson(report)["cache_hits"], 0) << "the float grids found the compact form's references";
 }
 
 // --grid maps FULL's foreign grids, and the mapping is part of FULL's key in the cache: an albedo
