@@ -25,6 +25,8 @@
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/math/vector.h"
 
+#include <Eigen/Geometry>
+
 #include <openvdb/math/Half.h>
 #include <openvdb/openvdb.h>
 
@@ -64,9 +66,13 @@ inline double largestEigenvalueOf(const CompactVoxel& v) {
   const double s = std::max({float(v.sigma[0]), float(v.sigma[1]), float(v.sigma[2])});
   return s * s;
 }
-// w^T S w = sum_i (sigma_i r_i . w)^2, r_i the columns of R.
+// w^T S w = sum_i (sigma_i r_i . w)^2, r_i the columns of R. R^T w is w turned by the conjugate
+// quaternion (a, -u): w + (2 / |q|^2) (-a (u x w) + u x (u x w)), without forming R.
 inline double wSwOf(const CompactVoxel& v, const Vec3& w) {
-  const Vec3 local = rotationOf(v).transpose() * w;
+  const Vec3 u(v.rotation[1], v.rotation[2], v.rotation[3]);
+  const double a = v.rotation[0];
+  const Vec3 uw = u.cross(w);
+  const Vec3 local = w + (2 / (a * a + u.squaredNorm())) * (u.cross(uw) - a * uw);
   double sum = 0;
   for (int i = 0; i < 3; ++i) {
     const double projected = double(float(v.sigma[i])) * local[i];
@@ -108,9 +114,10 @@ class CompactAttributes {
    public:
     explicit Accessor(const CompactAttributes& attributes) : leaves_(attributes.leaves_) {}
     // The record of active voxel `offset` of `leaf`, a density leaf that was added.
-    const CompactVoxel& at(const DensityLeaf& leaf, openvdb::Index offset) {
-      const auto* records = reinterpret_cast<const LeafRecords*>(leaves_.getValue(leafKey(leaf.origin())));
-      return records->at(leaf.getValueMask(), offset);
+    const CompactVoxel& at(const DensityLeaf& leaf, openvdb::Index offset) { return recordsOf(leaf).at(leaf.getValueMask(), offset); }
+    // Where the records of `leaf`, a density leaf that was added, are.
+    const LeafRecords& recordsOf(const DensityLeaf& leaf) {
+      return *reinterpret_cast<const LeafRecords*>(leaves_.getValue(leafKey(leaf.origin())));
     }
 
    private:

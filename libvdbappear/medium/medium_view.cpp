@@ -430,9 +430,25 @@ double wSwOf(const openvdb::Vec3s& d, const openvdb::Vec3s& o, const Vec3& w) {
          2 * (o[0] * w.x() * w.y() + o[1] * w.x() * w.z() + o[2] * w.y() * w.z());
 }
 
+// Adds the stencil's active corners in `density` (the leaf at its base): w_c rho_c to rho and
+// w_c rho_c max(0, wSw(i)) to rho_wSw, for corner offset i in the leaf. Leaf offsets are x-major
+// (64 x + 8 y + z); corner c has dx = bit 0, dy = bit 1, dz = bit 2.
+template <typename WSw>
+void addStencilCorners(const openvdb::FloatTree::LeafNodeType& density, const TrilinearStencil& stencil, const WSw& wSw,
+                       double* rho, double* rho_wSw) {
+  const openvdb::Index origin = openvdb::FloatTree::LeafNodeType::coordToOffset(stencil.base);
+  for (int c = 0; c < 8; ++c) {
+    const openvdb::Index i = origin + ((c & 1) << 6) + ((c & 2) << 2) + ((c & 4) >> 2);
+    const double r = density.getValue(i);
+    if (!(r > 0) || !density.isValueOn(i)) continue;
+    *rho += stencil.weight[c] * r;
+    *rho_wSw += stencil.weight[c] * r * std::max(0.0, wSw(i));
+  }
+}
+
 // The trilinear sums when the whole 2x2x2 stencil lies in one leaf of every grid it needs (7 times
-// in 8 along each axis): values come straight from the leaf buffers instead of 8 accessor probes
-// per grid. Leaf offsets are x-major (64 x + 8 y + z); corner c has dx = bit 0, dy = bit 1, dz = bit 2.
+// in 8 along each axis): values come straight from the leaf buffers (or a compact medium's records)
+// instead of 8 accessor probes per grid.
 bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stencil, const Vec3& w, double* rho,
                       double* rho_wSw) {
   if (a.instances) return false;  // the stencil may span two blocks of the layout
@@ -441,28 +457,17 @@ bool stencilInOneLeaf(MediumLookup::Accessors& a, const TrilinearStencil& stenci
   const auto* density = a.density.probeConstLeaf(base);
   if (!density) return false;
   if (a.records_sggx) {  // a compact medium: S from the density leaf's records
-    const openvdb::Index origin = openvdb::FloatTree::LeafNodeType::coordToOffset(base);
-    for (int c = 0; c < 8; ++c) {
-      const openvdb::Index i = origin + ((c & 1) << 6) + ((c & 2) << 2) + ((c & 4) >> 2);
-      const double r = density->getValue(i);
-      if (!(r > 0) || !density->isValueOn(i)) continue;
-      *rho += stencil.weight[c] * r;
-      *rho_wSw += stencil.weight[c] * r * std::max(0.0, wSwOf(a.records->at(*density, i), w));
-    }
+    const LeafRecords& records = a.records->recordsOf(*density);
+    addStencilCorners(*density, stencil, [&](openvdb::Index i) { return wSwOf(records.at(density->getValueMask(), i), w); },
+                      rho, rho_wSw);
     return true;
   }
   const openvdb::Vec3STree::LeafNodeType* diag = a.diag ? a.diag->probeConstLeaf(base) : nullptr;
   const openvdb::Vec3STree::LeafNodeType* offdiag = a.offdiag ? a.offdiag->probeConstLeaf(base) : nullptr;
   if ((a.diag && !diag) || (a.offdiag && !offdiag)) return false;
-  const openvdb::Index origin = openvdb::FloatTree::LeafNodeType::coordToOffset(base);
-  for (int c = 0; c < 8; ++c) {
-    const openvdb::Index i = origin + ((c & 1) << 6) + ((c & 2) << 2) + ((c & 4) >> 2);
-    const double r = density->getValue(i);
-    if (!(r > 0) || !density->isValueOn(i)) continue;
-    const double wSw = diag ? wSwOf(diag->getValue(i), offdiag ? offdiag->getValue(i) : openvdb::Vec3s(0.0f), w) : 1.0;
-    *rho += stencil.weight[c] * r;
-    *rho_wSw += stencil.weight[c] * r * std::max(0.0, wSw);
-  }
+  addStencilCorners(*density, stencil, [&](openvdb::Index i) {
+    return diag ? wSwOf(diag->getValue(i), offdiag ? offdiag->getValue(i) : openvdb::Vec3s(0.0f), w) : 1.0;
+  }, rho, rho_wSw);
   return true;
 }
 
