@@ -222,6 +222,14 @@ TEST(CompactMedium, MediaWithOtherRenderedGridsOrTilesAreNotMadeCompact) {
   EXPECT_NE(reason(tiled).find("active tiles"), std::string::npos);
 }
 
+// The compact form of a medium it holds (the test fails otherwise).
+CompactMedium compactFormOf(const MediumPtr& medium) {
+  std::string why_not;
+  const auto compact = compactMedium(medium, &why_not);
+  EXPECT_TRUE(compact) << why_not;
+  return compact ? *compact : CompactMedium{};
+}
+
 // The view of the compact form: extinction within 2^-10 of the float grids' at nearest and trilinear
 // lookups, albedo within 2^-12, and a majorant that bounds the compact medium (no violation in a render).
 TEST(CompactMediumView, LooksUpWhatTheFloatGridsHoldToHalfPrecision) {
@@ -229,11 +237,10 @@ TEST(CompactMediumView, LooksUpWhatTheFloatGridsHoldToHalfPrecision) {
   params.extent = 40;
   params.seed = 11;
   const MediumPtr medium = makeRandomMedium(params);
-  std::string why_not;
-  const auto compact = compactMedium(medium, &why_not);
-  ASSERT_TRUE(compact) << why_not;
+  const CompactMedium compact = compactFormOf(medium);
+  ASSERT_TRUE(compact.medium);
   for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
-    const MediumView full_view(medium, interp), compact_view(*compact, interp);
+    const MediumView full_view(medium, interp), compact_view(compact, interp);
     EXPECT_TRUE(compact_view.compact());
     EXPECT_FALSE(full_view.compact());
     EXPECT_EQ(compact_view.phaseSource(), PhaseSource::kSggx);
@@ -282,12 +289,11 @@ TEST(CompactMediumView, RendersTheFloatGridsImageWithinMonteCarloError) {
   weave.resolution = 48;
   weave.yarns = 2;
   const MediumPtr twill = makeWeave(weave);
-  std::string why_not;
-  const auto compact = compactMedium(twill, &why_not);
-  ASSERT_TRUE(compact) << why_not;
+  const CompactMedium compact = compactFormOf(twill);
+  ASSERT_TRUE(compact.medium);
   for (const Interpolation interp : {Interpolation::kNearest, Interpolation::kTrilinear}) {
     const test::Render full = renderView(std::make_shared<MediumView>(twill, interp), 1);
-    const test::Render small = renderView(std::make_shared<MediumView>(*compact, interp), 2);
+    const test::Render small = renderView(std::make_shared<MediumView>(compact, interp), 2);
     EXPECT_GT(full.mean, 0.01);
     test::expectSameImage(full, small, interpolationName(interp));
     EXPECT_EQ(small.result.tracking.majorant_violations, 0u);
