@@ -195,7 +195,7 @@ def main():
             row["render_full"] = timed(render + [medium, "-o", work / "render.exr", "--res", "64x64", "--spp", "1",
                                                  "--full-precision"])
             row["agreement"] = form_agreement(render, medium, work)
-        if not rows:
+        if not rows and n <= min(args.render_max, args.whole_max):  # the smallest size, if both forms fit
             row["render_speed"] = render_speed(render, medium, work)
         rows.append(row)
         for path in (scratch, report, density, work / "render.exr", work / "speed.exr", work / "speed.json") + (
