@@ -8,6 +8,7 @@
 #include "libvdbappear/render/light.h"
 #include "libvdbappear/render/surface_scene.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
+#include "libvdbappear/surface/mesh_shell.h"
 #include "libvdbappear/surface/sphere_shell.h"
 
 #include <cmath>
@@ -22,24 +23,30 @@ class ShGridLookup;
 class TranslucentObject;
 
 // A prefiltered displacement map as placed in the scene: its SVBRDF and where its tiles lie, on a
-// plane or shell-mapped over a sphere.
+// plane, or shell-mapped over a sphere or over a mesh by its UVs.
 struct PrefilteredPlacement {
   std::shared_ptr<const PrefilteredBrdf> brdf;
   Vec3 origin = Vec3::Zero();  // vertex (0, 0) of the first tile at height 0
   double size = 1;             // of one tile along x and y
   std::optional<SphereShell> shell;  // instead of the plane through origin
-  // Where world point p lies on the map: the base position in [0,1)^2 of the tile under it, and the
-  // map's base frame (x, y, height) in world directions there (the world's axes on the plane).
+  std::shared_ptr<const MeshShell> mesh;  // instead of the plane or the sphere; its triangles are the surface's
+  // Where world point p, the hit `hit` of this surface, lies on the map: the base position in [0,1)^2
+  // of the tile under it, and the map's base frame (x, y, height) in world directions there (the
+  // world's axes on the plane). On a plane or a sphere p alone says it; on a mesh the hit's triangle.
   struct MapPoint {
     Point2 position;
     Frame frame;
   };
-  MapPoint mapPoint(const Vec3& p) const {
+  MapPoint mapPoint(const Vec3& p, const SurfaceHit& hit = {}) const {
+    if (mesh) {
+      const MeshShell::MapPoint at = mesh->mapPoint(hit.primitive, hit.barycentric);
+      return {fractional(at.tile), at.frame};
+    }
     const Point2 uv = shell ? shell->tileCoordinates(p) : Point2((p.x() - origin.x()) / size, (p.y() - origin.y()) / size);
-    const Point2 position(uv.x() - std::floor(uv.x()), uv.y() - std::floor(uv.y()));
-    if (!shell) return {position, {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}};
-    return {position, shell->frame(uv.x(), uv.y())};
+    if (!shell) return {fractional(uv), {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}};
+    return {fractional(uv), shell->frame(uv.x(), uv.y())};
   }
+  static Point2 fractional(const Point2& tile) { return {tile.x() - std::floor(tile.x()), tile.y() - std::floor(tile.y())}; }
 };
 
 struct RenderScene {

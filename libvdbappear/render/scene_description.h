@@ -63,9 +63,15 @@ struct GroundDescription {
 // "sphere": [x, y, z] (with "file" or "prefiltered", not "origin"): the tiles shell-mapped over a
 // sphere centred there on which tiles[0] tiles span the equator, tiles[1] pole to pole
 // (surface/sphere_shell.h; the ball of Fig. 4.18).
+// "mesh": "base.obj" (with "file" or "prefiltered", not "origin" or "sphere"): the tiles shell-mapped
+// over a mesh by its UVs, tiles[0] along u and tiles[1] along v over [0,1]^2, displaced along its
+// shading normals (surface/mesh_shell.h); "vertices_per_cell": V splits the mesh's triangles so that
+// their edges span at most 1 / V of the map's cells (default 1, and 2 for a prefiltered map).
 struct HeightFieldDescription {
   std::string file;
   std::optional<Vec3> sphere_centre;
+  std::string mesh;  // the base mesh's file, instead of the plane or the sphere
+  std::optional<double> vertices_per_cell;
   std::string prefiltered;  // the manifest, instead of file
   std::vector<std::string> mipmap;  // manifests, instead of prefiltered; file: the original as level 0
   bool scaling = true;      // prefiltered: f_low = T S f'_low, or f'_low alone

@@ -193,7 +193,8 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   // keeps the normals.
   const unsigned id = hit.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? hit.hit.instID[0] : hit.hit.geomID;
   const GeometryInfo& info = impl_->geometries[id];
-  return SurfaceHit{double(hit.ray.tfar), (*info.normals)[hit.hit.primID], info.albedo, info.light, info.translucent, info.brdf, info.prefiltered};
+  return SurfaceHit{double(hit.ray.tfar), (*info.normals)[hit.hit.primID], info.albedo, info.light, info.translucent,
+                    info.brdf, info.prefiltered, hit.hit.primID, Point2(hit.hit.u, hit.hit.v)};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max, int level) const {

@@ -21,6 +21,8 @@ struct SurfaceHit {
   int translucent = -1;  // index of the translucent object hit (RenderScene::translucent), or -1
   int brdf = -1;         // index of a glossy mesh's microfacet BRDF (RenderScene::brdfs), or -1
   int prefiltered = -1;  // index of a prefiltered displacement map (RenderScene::prefiltered), or -1
+  unsigned primitive = 0;  // the triangle hit, in the order its surface was added (a copy's as its mesh's)
+  Point2 barycentric = Point2::Zero();  // (b1, b2): the point (1 - b1 - b2) p0 + b1 p1 + b2 p2 of it
 };
 
 // Which levels of detail a surface belongs to (render/level_of_detail.h): a mipmap's level k is

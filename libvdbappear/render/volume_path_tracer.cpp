@@ -289,7 +289,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
       if (hit->prefiltered >= 0) {
         const PrefilteredPlacement& placement = scene_.prefiltered[std::size_t(hit->prefiltered)];
         vertex.prefiltered = placement.brdf.get();
-        const PrefilteredPlacement::MapPoint at = placement.mapPoint(vertex.p);
+        const PrefilteredPlacement::MapPoint at = placement.mapPoint(vertex.p, *hit);
         vertex.map_x = at.position;
         vertex.map_frame = at.frame;
         vertex.camera_view = mirror_reflectance > 0;

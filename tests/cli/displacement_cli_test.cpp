@@ -5,6 +5,7 @@
 
 #include "cli/run_command.h"
 #include "support/temp_dir.h"
+#include "support/uv_meshes.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -78,6 +79,30 @@ TEST(DisplacementCli, MapPrefilteredAndRenderedThroughTheTools) {
   double sum = 0;
   for (float v : image.pixels) sum += v;
   EXPECT_GT(sum, 0);
+
+  // Over a mesh by its UVs (a UV sphere; surface/mesh_shell.h). A mesh without UVs is refused,
+  // naming it, and nothing is written.
+  test::writeObj(dir.path("ball.obj"), test::uvSphere(Vec3(0.5, 0.5, 0), 0.4, 32, 16));
+  test::writeObj(dir.path("plain.obj"), test::uvSphere(Vec3(0.5, 0.5, 0), 0.4, 32, 16), false);
+  for (const std::string mesh : {"ball", "plain"}) {
+    std::ofstream(dir.path(mesh + ".json")) << R"({"resolution": [24, 16], "spp": 4,
+      "camera": {"position": [0.5, -1.5, 1.2], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 40},
+      "lights": [{"type": "sun", "direction": [0.3, 0.4, -1], "strength": 2}],
+      "height_fields": [{"prefiltered": "one.json", "mesh": ")" + mesh + R"(.obj", "tiles": [4, 2]}]})";
+    const std::string out = dir.path(mesh + ".exr");
+    const auto over_mesh = runCommand(kRender + " --scene " + quote(dir.path(mesh + ".json")) + " -o " + quote(out));
+    if (mesh == "ball") {
+      ASSERT_EQ(over_mesh.status, 0) << over_mesh.err;
+      double ball_sum = 0;
+      for (float v : readRgbImage(out).pixels) ball_sum += v;
+      EXPECT_GT(ball_sum, 0);
+      continue;
+    }
+    EXPECT_NE(over_mesh.status, 0);
+    EXPECT_EQ(lineCount(over_mesh.err), 1) << over_mesh.err;
+    EXPECT_NE(over_mesh.err.find("plain.obj: the mesh has no texture coordinates (UVs)"), std::string::npos) << over_mesh.err;
+    EXPECT_FALSE(exists(out));
+  }
 
   // The manifest's keys are not the scene's to override.
   std::ofstream(dir.path("bad_scene.json")) << R"({"height_fields": [{"prefiltered": "one.json", "size": 2}]})";
