@@ -1,30 +1,50 @@
 #pragma once
 // Level of detail for mipmaps of prefiltered displacement maps (§4.7.2, dissertation ch. 4): each
-// camera ray's pixel footprint on the map's base plane, in cells of the original map, picks the two
-// levels whose downsampling factors bracket it, and the path is traced on one of them, the coarser
-// with probability equal to the linear interpolation weight (in log factor). Over many paths this
-// is the chapter's linear interpolation of the two levels' path contributions, at the cost of one
-// path instead of two. The whole path sees that one level (render/surface_scene.h, DetailLevels).
-// Levels are matched by index: in a scene of several mipmaps, level k is each one's k-th (or its
-// last). Queries outside the path tracer (the visible points of render/visible_points.h, pass 1 of
-// translucent objects) see level 0.
+// camera ray's pixel footprint on the map's base (a plane, a sphere or a mesh), in cells of the
+// original map, picks the two levels whose downsampling factors bracket it, and the path is traced
+// on one of them, the coarser with probability equal to the linear interpolation weight (in log
+// factor). Over many paths this is the chapter's linear interpolation of the two levels' path
+// contributions, at the cost of one path instead of two. The whole path sees that one level
+// (render/surface_scene.h, DetailLevels). Levels are matched by index: in a scene of several
+// mipmaps, level k is each one's k-th (or its last). Queries outside the path tracer (the visible
+// points of render/visible_points.h, pass 1 of translucent objects) see level 0.
 
 #include "libvdbappear/render/ray.h"
 
+#include <functional>
 #include <optional>
 #include <vector>
 
 namespace vdbappear {
 
+class MeshShell;
 class RandomStream;
+struct SphereShell;
 
-// A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy.
+// Where a camera ray meets the curved base of a mipmap's tiles (a sphere, a mesh): the distance, the
+// cosine between the ray and the base's normal there, and the world width of one cell of the
+// original map there (the square root of its area, which the base stretches).
+struct BaseHit {
+  double t = 0, cos_theta = 1, cell = 1;
+};
+using BaseIntersector = std::function<std::optional<BaseHit>(const Ray&)>;
+
+// A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy, or on a curved
+// base.
 struct MipmapFootprint {
   Vec3 origin = Vec3::Zero();
   double width_x = 1, width_y = 1;  // all tiles together, world units
   double cell = 1;                  // world width of one cell of the original map
   std::vector<double> factors;      // of levels 0, 1, ...: increasing, 1 for the original map
+  BaseIntersector curved;           // set: the tiles lie on it (origin, widths and cell unused)
 };
+
+// The bases of surface/sphere_shell.h and surface/mesh_shell.h for an original map of cells_x x
+// cells_y cells per tile. Over a sphere a cell is (2 pi r cos(latitude) / (tiles_x cells_x)) by
+// (pi r / (tiles_y cells_y)); over a mesh each triangle's cells share its area by its part of the
+// UV square (the mesh's base triangles are kept in an Embree scene of their own).
+BaseIntersector sphereBase(const SphereShell& shell, int cells_x, int cells_y);
+BaseIntersector meshBase(const MeshShell& shell, int cells_x, int cells_y);
 
 // Levels `lower` and `upper` = lower + 1 (or both the same), upper with weight `weight`.
 struct LevelBlend {
@@ -38,7 +58,8 @@ struct LevelBlend {
 LevelBlend blendForFootprint(const std::vector<double>& factors, double footprint_cells);
 
 // The width (sqrt of the area) of a camera ray's pixel footprint where it meets the mipmap's base
-// plane inside its tiles, in original cells, and the distance t there; nothing if it misses.
+// plane inside its tiles (or its curved base), in original cells, and the distance t there; nothing
+// if it misses.
 struct Footprint {
   double t = 0, cells = 0;
 };

@@ -150,10 +150,8 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
             source, where);
   HeightFieldDescription field;
   if (h.contains("mesh")) {
-    for (const char* key : {"origin", "sphere", "mipmap"})
-      if (h.contains(key))
-        fail(source, where + ".mesh", fmt::format("not with \"{}\" (the mesh places the tiles{})", key,
-                                                  std::string(key) == "mipmap" ? "; mipmaps lie on planes" : ""));
+    for (const char* key : {"origin", "sphere"})
+      if (h.contains(key)) fail(source, where + ".mesh", fmt::format("not with \"{}\" (the mesh places the tiles)", key));
     if (!h["mesh"].is_string()) fail(source, where + ".mesh", "expected the path of a mesh with UVs");
     field.mesh = resolve(folder, h["mesh"].get<std::string>());
   }
@@ -165,7 +163,6 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
   }
   if (h.contains("sphere")) {
     if (h.contains("origin")) fail(source, where + ".sphere", "not with \"origin\" (the sphere's centre places it)");
-    if (h.contains("mipmap")) fail(source, where + ".sphere", "not with \"mipmap\" (mipmaps lie on planes)");
     field.sphere_centre = vec3Of(h["sphere"], source, where + ".sphere");
   }
   if (h.contains("mipmap")) {
@@ -565,7 +562,11 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   const PrefilteredSurfaceFile& first = levels.front();
   const HeightFieldPlacement& placement = field.placement;
   MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
-                            first.info.size / fine_cells, {}};
+                            first.info.size / fine_cells, {}, {}};
+  const int fine_cells_y = first.surface.height.cellsY() * first.info.factor;
+  const CurvedBase base = curvedBaseOf(field, first.info.size);
+  if (base.sphere) footprint.curved = sphereBase(*base.sphere, fine_cells, fine_cells_y);
+  if (base.mesh) footprint.curved = meshBase(*base.mesh, fine_cells, fine_cells_y);
   const std::size_t n = levels.size() + (field.file.empty() ? 0 : 1);
   std::size_t j = 0;
   if (!field.file.empty()) {

@@ -60,12 +60,12 @@ struct GroundDescription {
 // (optional "file", its size, height scale and BRDF from the manifests) as its finest level; each
 // path is traced on the level its camera ray's pixel footprint picks (§4.7.2;
 // render/level_of_detail.h).
-// "sphere": [x, y, z] (with "file" or "prefiltered", not "origin"): the tiles shell-mapped over a
-// sphere centred there on which tiles[0] tiles span the equator, tiles[1] pole to pole
+// "sphere": [x, y, z] (with "file", "prefiltered" or "mipmap", not "origin"): the tiles shell-mapped
+// over a sphere centred there on which tiles[0] tiles span the equator, tiles[1] pole to pole
 // (surface/sphere_shell.h; the ball of Fig. 4.18).
-// "mesh": "base.obj" (with "file" or "prefiltered", not "origin" or "sphere"): the tiles shell-mapped
-// over a mesh by its UVs, tiles[0] along u and tiles[1] along v over [0,1]^2, displaced along its
-// shading normals (surface/mesh_shell.h); "vertices_per_cell": V splits the mesh's triangles so that
+// "mesh": "base.obj" (with "file", "prefiltered" or "mipmap", not "origin" or "sphere"): the tiles
+// shell-mapped over a mesh by its UVs, tiles[0] along u and tiles[1] along v over [0,1]^2, displaced
+// along its shading normals (surface/mesh_shell.h); "vertices_per_cell": V splits the mesh's triangles so that
 // their edges span at most 1 / V of the map's cells (default 1, and 2 for a prefiltered map).
 struct HeightFieldDescription {
   std::string file;

@@ -50,6 +50,9 @@ class MeshShell {
   MapPoint mapPoint(std::uint32_t primitive, const Point2& barycentric) const;
 
   int subdivisions() const { return k_; }
+  const std::vector<UvTriangle>& base() const { return base_; }
+  int tilesX() const { return tiles_x_; }
+  int tilesY() const { return tiles_y_; }
   std::size_t baseTriangles() const { return base_.size(); }
   // The mean world width of a tile: sqrt(the mesh's area per tile). A prefiltered map keeps its
   // slopes only where a tile is as wide as the map was made for.

@@ -5,6 +5,10 @@
 #include "libvdbappear/render/camera.h"
 #include "libvdbappear/render/level_of_detail.h"
 #include "libvdbappear/render/surface_scene.h"
+#include "libvdbappear/surface/mesh_shell.h"
+#include "libvdbappear/surface/sphere_shell.h"
+
+#include "support/uv_meshes.h"
 
 #include <gtest/gtest.h>
 
@@ -55,6 +59,42 @@ TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
   mipmap.width_x = 0.1;  // the tiles end before the ray meets the plane: no footprint
   EXPECT_FALSE(footprintOn(mipmap, camera.ray(20.5, 280.5)));
   EXPECT_FALSE(footprintOn(mipmap, Ray{Vec3(0, 0, 1), Vec3(0, 0, 1), 1e-3}));  // away from the plane
+}
+
+// Over a sphere (16 x 8 tiles of 32 x 32 cells on the unit sphere) a cell is 2 pi / 512 wide at the
+// equator and sqrt(cos(latitude)) of that elsewhere, and the footprint widens as 1 / sqrt(cos) of the
+// ray's angle to the normal, as on the plane; over a UV sphere mesh of the same parameterisation the
+// same, up to its facets (128 x 64 quads).
+TEST(LevelOfDetail, FootprintOnASphereAndAMesh) {
+  const SphereShell sphere = SphereShell::ofTiles(Vec3(0, 0, 0.5), 2 * kPi / 16, 16, 8);
+  MeshShell mesh(test::uvSphere(sphere.centre, sphere.radius, 128, 64), 16, 8);
+  MipmapFootprint on_sphere, on_mesh;
+  on_sphere.curved = sphereBase(sphere, 32, 32);
+  on_mesh.curved = meshBase(mesh, 32, 32);
+  const double equator_cell = 2 * kPi / 512, spread = 0.01;
+  // Toward the equator, head on: t = 3.
+  const Ray head_on{Vec3(0, -4, 0.5), Vec3(0, 1, 0), spread};
+  for (const MipmapFootprint* m : {&on_sphere, &on_mesh}) {
+    const std::optional<Footprint> f = footprintOn(*m, head_on);
+    ASSERT_TRUE(f);
+    EXPECT_NEAR(f->t, 3, 1e-3);
+    EXPECT_NEAR(f->cells, 3 * spread / equator_cell, 0.01 * 3 * spread / equator_cell);
+  }
+  // Toward latitude 60 degrees, 30 degrees off its normal.
+  const double latitude = kPi / 3;
+  const Vec3 n(0, -std::cos(latitude), std::sin(latitude)), point = sphere.centre + n;
+  const Vec3 d = -(std::cos(kPi / 6) * n + std::sin(kPi / 6) * Vec3(1, 0, 0));
+  const Ray oblique{point - 2 * d, d, spread};
+  const double expected = 2 * spread / std::sqrt(std::cos(kPi / 6)) / (equator_cell * std::sqrt(std::cos(latitude)));
+  for (const MipmapFootprint* m : {&on_sphere, &on_mesh}) {
+    const std::optional<Footprint> f = footprintOn(*m, oblique);
+    ASSERT_TRUE(f);
+    EXPECT_NEAR(f->t, 2, 2e-3);
+    EXPECT_NEAR(f->cells, expected, 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
+  }
+  const Ray away{Vec3(0, -4, 0.5), Vec3(0, -1, 0), spread};
+  EXPECT_FALSE(footprintOn(on_sphere, away));
+  EXPECT_FALSE(footprintOn(on_mesh, away));
 }
 
 // Over many camera rays of one footprint half way between two levels, the coarser is chosen half

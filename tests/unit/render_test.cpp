@@ -661,6 +661,56 @@ TEST(Surfaces, MeshShellOverAUvSphereRendersAsTheSphereShell) {
   }
 }
 
+// A mipmap of the ball's original and its model at 4x over the analytic sphere and over a UV sphere
+// mesh: a camera close enough that every pixel is narrower than an original cell sees the original
+// alone, one far enough that every pixel spans more than 4 cells the model alone, path for path
+// (to 1e-5), as on the plane (Surfaces.MipmapLevelsFollowThePixelFootprint).
+TEST(Surfaces, MipmapOverASphereOrAMeshFollowsThePixelFootprint) {
+  const BumpyBall ball;
+  const test::TempDir dir;
+  const std::string mesh = dir.path("sphere.obj");
+  test::writeObj(mesh, test::uvSphere(Vec3::Zero(), 1, 64, 32));
+  const json lights = json::array({{{"type", "sun"}, {"direction", {0.6, 0.7, -0.4}}, {"strength", 3.0}},
+                                   {{"type", "env"}, {"radiance", 0.2}}});
+  const auto build = [&](HeightFieldDescription field, const std::string& base) {
+    if (base.empty()) field.sphere_centre = Vec3::Zero();
+    field.mesh = base;
+    field.placement.tiles_x = 16;
+    field.placement.tiles_y = 8;
+    SceneDescription d;
+    d.lights = lights;
+    d.height_fields = {field};
+    return buildRenderScene(d, nullptr, [&](const std::string&) { return heightImage(ball.map); },
+                            [&](const std::string&) { return ball.file; });
+  };
+  HeightFieldDescription mipmap, original, model;
+  mipmap.mipmap = {"bumps_4x.json"};
+  mipmap.file = original.file = "bumps.exr";
+  original.size = ball.size;
+  original.brdf = ball.base;
+  model.prefiltered = "bumps_4x.json";
+  // A pixel of an 8 x 8 image at 10 degrees is 0.022 radians: 0.7 of a cell (2 pi / 512) at t = 0.4,
+  // 11 cells at t = 6.
+  const auto camera = [](double distance) {
+    return PinholeCamera({Vec3(0.2, -distance, 0.3).normalized() * distance, Vec3::Zero(), Vec3(0, 0, 1), 10}, 8, 8);
+  };
+  for (const std::string& base : {std::string(), mesh}) {
+    const RenderScene scene = build(mipmap, base);
+    ASSERT_EQ(scene.mipmaps.size(), 1u);
+    for (const auto& [distance, alone] : {std::pair{1.4, build(original, base)}, std::pair{7.0, build(model, base)}}) {
+      const RenderResult expected = renderImage(alone, camera(distance), small(8, 16));
+      const RenderResult r = renderImage(scene, camera(distance), small(8, 16));
+      double sum = 0;
+      for (std::size_t i = 0; i < r.mean.size(); ++i) {
+        sum += expected.mean[i];
+        EXPECT_NEAR(r.mean[i], expected.mean[i], 1e-5 * expected.mean[i] + 1e-7)
+            << (base.empty() ? "sphere" : "mesh") << " at " << distance << " pixel " << i;
+      }
+      EXPECT_GT(sum, 0);
+    }
+  }
+}
+
 // A mesh without UVs cannot carry a map: one error naming the file.
 TEST(Surfaces, MeshWithoutUvsIsRefused) {
   const test::TempDir dir;
@@ -842,8 +892,7 @@ TEST(SceneFile, SphereKeys) {
   EXPECT_EQ(refusal({{"prefiltered", "a.json"}, {"sphere", {1, 2, 3}}}), "accepted");
   EXPECT_NE(refusal({{"file", "a.exr"}, {"sphere", {1, 2, 3}}, {"origin", {0, 0, 0}}}).find("height_fields[0].sphere: not with \"origin\""),
             std::string::npos);
-  EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"sphere", {1, 2, 3}}}).find("height_fields[0].sphere: not with \"mipmap\""),
-            std::string::npos);
+  EXPECT_EQ(refusal({{"mipmap", {"a.json"}}, {"sphere", {1, 2, 3}}}), "accepted");
   EXPECT_NE(refusal({{"file", "a.exr"}, {"sphere", "here"}}).find("height_fields[0].sphere"), std::string::npos);
 }
 
@@ -860,8 +909,7 @@ TEST(SceneFile, MeshKeys) {
             std::string::npos);
   EXPECT_NE(refusal({{"file", "a.exr"}, {"mesh", "base.obj"}, {"sphere", {0, 0, 0}}}).find("height_fields[0].mesh: not with \"sphere\""),
             std::string::npos);
-  EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"mesh", "base.obj"}}).find("height_fields[0].mesh: not with \"mipmap\""),
-            std::string::npos);
+  EXPECT_EQ(refusal({{"mipmap", {"a.json"}}, {"file", "a.exr"}, {"mesh", "base.obj"}}), "accepted");
   EXPECT_NE(refusal({{"file", "a.exr"}, {"mesh", 3}}).find("height_fields[0].mesh: expected the path"), std::string::npos);
   EXPECT_EQ(heightFieldRefusal({{"file", "a.exr"}, {"mesh", "base.obj"}, {"vertices_per_cell", 3}},
                                [](const HeightFieldDescription& h) { EXPECT_EQ(h.vertices_per_cell, 3.0); }),
