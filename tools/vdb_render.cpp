@@ -388,6 +388,11 @@ RenderJob prepareJob(const CLI::App& app, const Flags& flags, const GridMapping&
   if (outputs.subsurface && !translucent) throw std::runtime_error("--aov sss needs a translucent mesh (--translucent-mesh)");
   if (outputs.subsurface) checkSubsurfaceChannelMemory(scene.render.width, scene.render.height);
   job.render_scene = buildRenderScene(scene, job.medium, readRgbImage, readPrefilteredSurface);
+  if (group.isRoot()) {  // once, not per rank
+    for (const std::string& warning : job.render_scene.warnings) fmt::print(stderr, "{}: warning: {}\n", kTool, warning);
+    if (flags.verbose)
+      for (const std::string& note : job.render_scene.notes) fmt::print(stderr, "{}: note: {}\n", kTool, note);
+  }
   if (!flags.sh_lightgrid.empty()) {
     job.render_scene.sh_lights = readShLightGrid(flags.sh_lightgrid);
     job.render_scene.sh_interpolation = flags.sh_interp == "trilinear" ? CellInterpolation::kTrilinear

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace vdbappear {
@@ -73,6 +74,9 @@ struct RenderScene {
   // grid's dominant direction there, or along the sampled direction where one is sampled (one
   // ratio-tracking ray, not one per light; docs/sh_lightgrid.md §5).
   bool sh_shadows = true;
+  // What building the scene decided for the user (a line each, for -v), and what may not be what
+  // they meant (a line each, always shown): e.g. a prefiltered map stretched over a mesh.
+  std::vector<std::string> notes, warnings;
 };
 
 }  // namespace vdbappear

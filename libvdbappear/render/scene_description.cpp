@@ -463,10 +463,17 @@ struct PlacedMesh {
   std::vector<Vec3> copies;  // empty: the triangles alone
 };
 
-PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightFieldPlacement placement) {
+PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightFieldPlacement placement,
+                      std::vector<std::string>* notes = nullptr) {
   if (base.mesh) {
     try {
-      return {base.mesh->displace(height, placement.height_scale, base.vertices_per_cell), {}};
+      PlacedMesh placed{base.mesh->displace(height, placement.height_scale, base.vertices_per_cell), {}};
+      if (notes)
+        notes->push_back(fmt::format("{}: {} triangles, each split {} times for a map of {} x {} cells per tile: {} triangles",
+                                     base.mesh_file, base.mesh->baseTriangles(),
+                                     base.mesh->subdivisions() * base.mesh->subdivisions(), height.cellsX(),
+                                     height.cellsY(), placed.triangles.size()));
+      return placed;
     } catch (const std::length_error& e) {
       throw std::runtime_error(base.mesh_file + ": " + e.what());
     }
@@ -482,8 +489,8 @@ PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightF
   return mesh;
 }
 
-PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field) {
-  return placedMesh(height, curvedBaseOf(field, field.size), field.placement);
+PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field, std::vector<std::string>* notes) {
+  return placedMesh(height, curvedBaseOf(field, field.size), field.placement, notes);
 }
 
 void extendBounds(const PlacedMesh& mesh, Aabb* bounds) {
@@ -504,7 +511,18 @@ void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription&
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
   const CurvedBase base = curvedBaseOf(field, file.info.size, true);
-  const PlacedMesh mesh = placedMesh(file.surface.height, base, placement);
+  const PlacedMesh mesh = placedMesh(file.surface.height, base, placement, &scene->notes);
+  if (base.mesh) {
+    // Heights are not stretched with the UVs: the model's slopes are the original's only where a
+    // tile is as wide as the map was prefiltered for.
+    const double width = base.mesh->meanTileWidth();
+    if (std::abs(width / file.info.size - 1) > 0.05)
+      scene->warnings.push_back(fmt::format(
+          "{}: a tile spans {:.3g} world units on {} (its mean), the map was prefiltered {:.3g} wide: its slopes, "
+          "and the prefiltered model, hold only at that width (scale the mesh or its UVs, or prefilter the map at "
+          "--size {:.3g})",
+          field.prefiltered, width, base.mesh_file, file.info.size, width));
+  }
   extendBounds(mesh, bounds);
   const bool curved = base.sphere || base.mesh;
   scene->prefiltered.push_back(
@@ -577,7 +595,7 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     if (height.cellsX() != fine_cells)
       throw std::runtime_error(field.file + ": " + std::to_string(height.cellsX()) + " cells across, the mipmap's levels prefilter " +
                                std::to_string(fine_cells));
-    const PlacedMesh mesh = placedMesh(height, original);
+    const PlacedMesh mesh = placedMesh(height, original, &scene->notes);
     extendBounds(mesh, bounds);
     scene->brdfs.push_back(first.base);
     scene->surfaces->addGlossy(mesh.triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n), mesh.copies);
@@ -654,7 +672,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       addPrefiltered(field, read_prefiltered, &scene, &everything);
       continue;
     }
-    const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field);
+    const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field, &scene.notes);
     extendBounds(mesh, &everything);
     addOpaque(mesh.triangles, field.albedo, field.brdf, &scene, mesh.copies);
   }

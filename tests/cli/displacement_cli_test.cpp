@@ -93,6 +93,11 @@ TEST(DisplacementCli, MapPrefilteredAndRenderedThroughTheTools) {
     const auto over_mesh = runCommand(kRender + " --scene " + quote(dir.path(mesh + ".json")) + " -o " + quote(out));
     if (mesh == "ball") {
       ASSERT_EQ(over_mesh.status, 0) << over_mesh.err;
+      // The map was prefiltered 1 wide; 4 x 2 tiles over a sphere of radius 0.4 span sqrt(area / 8) =
+      // 0.516 (the facets' area over the UV area that Assimp keeps: not the poles' degenerate halves).
+      EXPECT_NE(over_mesh.err.find("vdb_render: warning: " + dir.path("one.json") + ": a tile spans 0.516"), std::string::npos)
+          << over_mesh.err;
+      EXPECT_EQ(lineCount(over_mesh.err), 1) << over_mesh.err;
       double ball_sum = 0;
       for (float v : readRgbImage(out).pixels) ball_sum += v;
       EXPECT_GT(ball_sum, 0);
