@@ -3,7 +3,8 @@
 
 For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
 "ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
-Fig. 4.18) and each downsampling factor of --factors:
+Fig. 4.18; "torus", not a default: the bumps map at --torus-cells^2 cells over a torus mesh by its
+UVs) and each downsampling factor of --factors:
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
    light) and with the interreflection scaling R_ir (Eq. 4.20, for global illumination); its report
    gives the seconds of each step and the bytes of each part (Table 4.3-4.4).
@@ -37,7 +38,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 256] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
 """
 import argparse
 import json
@@ -79,10 +80,38 @@ GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": 
 BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
         "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
 BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
+# A general mesh (surface/mesh_shell.h; not in the default --surfaces): the bumps map over a torus
+# of 96 x 48 quads by its UVs, 18 tiles around the ring and 7 around the tube, about 1 wide each
+# (0.72 on the inner equator, 1.28 on the outer): curvature of both signs, tiles stretched and seams
+# both ways. Its map has --torus-cells^2 cells (128: 8.9 M triangles over the mesh at full resolution).
+TORUS = {"map": "bumps", "ring": 1 / 0.35, "tube": 0.4 / 0.35, "quads": (96, 48),
+         "placement": {"mesh": "torus.obj", "tiles": [18, 7]},
+         "camera": {"position": [1.43, -9.14, 5.71], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
+CURVED = {"ball": BALL, "torus": TORUS}
 
 
 def map_kind(surface):
-    return BALL["map"] if surface == "ball" else surface
+    return CURVED[surface]["map"] if surface in CURVED else surface
+
+
+def write_torus(path):
+    """TORUS's mesh as an OBJ: vertex (a, b) at u = a / n_u around the ring, v = b / n_v around the
+    tube, with its normals; counter-clockwise seen from outside."""
+    R, r, (nu, nv) = TORUS["ring"], TORUS["tube"], TORUS["quads"]
+    lines, faces = [], []
+    for b in range(nv + 1):
+        for a in range(nu + 1):
+            phi, theta = 2 * math.pi * a / nu, 2 * math.pi * b / nv
+            n = (math.cos(theta) * math.cos(phi), math.cos(theta) * math.sin(phi), math.sin(theta))
+            lines += [f"v {(R + r * math.cos(theta)) * math.cos(phi):.9f} "
+                      f"{(R + r * math.cos(theta)) * math.sin(phi):.9f} {r * math.sin(theta):.9f}",
+                      f"vt {a / nu:.9f} {b / nv:.9f}", f"vn {n[0]:.9f} {n[1]:.9f} {n[2]:.9f}"]
+    index = lambda a, b: b * (nu + 1) + a + 1
+    for b in range(nv):
+        for a in range(nu):
+            q = [index(a, b), index(a + 1, b), index(a + 1, b + 1), index(a, b + 1)]
+            faces.append("f " + " ".join(f"{i}/{i}/{i}" for i in q))
+    pathlib.Path(path).write_text("\n".join(lines + faces) + "\n")
 
 
 def run(cmd):
@@ -114,7 +143,7 @@ def reusable(manifest, report, cells, factor, brdf, rates):
 
 
 def map_cells(args, surface):
-    return args.ball_cells if surface == "ball" else args.cells
+    return {"ball": args.ball_cells, "torus": args.torus_cells}.get(surface, args.cells)
 
 
 def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
@@ -129,7 +158,7 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
 
 
 def height_field(model, surface, manifest):
-    placement = BALL["placement"] if surface == "ball" else {}
+    placement = CURVED[surface]["placement"] if surface in CURVED else {}
     if model == "reference":
         return {"file": f"{surface}.exr", "brdf": BRDF, **placement}
     if model == "naive":
@@ -195,7 +224,7 @@ def ball_regions(args, out, lighting, reference, images, reference_mean):
 
 def study(args, out, surface, factor, rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
-    camera = BALL["camera"] if surface == "ball" else CAMERA
+    camera = CURVED[surface]["camera"] if surface in CURVED else CAMERA
     for lighting in args.lighting.split(","):
         scaling = "shadowing" if lighting == "direct" else "interreflection"
         manifest, prefilter_report = prefilter(args, out, surface, factor, scaling)
@@ -413,7 +442,8 @@ def main():
     parser.add_argument("--out", default="displacement-out")
     parser.add_argument("--cells", type=int, default=1024)
     parser.add_argument("--factors", default="8,32")
-    parser.add_argument("--surfaces", default="woven,noise,relief,ball")
+    parser.add_argument("--surfaces", default="woven,noise,relief,ball",
+                        help="of woven, noise, relief, ball (bumps over a sphere) and torus (bumps over a mesh)")
     parser.add_argument("--rates", choices=sorted(RATES), default="n15",
                         help="n15 (the default since 2026-11-28: every planar model within 0.9%%, sections 1-2 in "
                              "about 96 minutes on 2 cores), quick (minutes), spread, or the chapter's")
@@ -425,6 +455,7 @@ def main():
     parser.add_argument("--lod-spp", default="16,64,256", help="section 4's budgets; empty: no section 4")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=256)
+    parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\", not a default)")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
     parser.add_argument("--scale-spp-ref", type=int, default=2048)
@@ -439,9 +470,11 @@ def main():
     for surface in args.surfaces.split(","):
         run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", map_cells(args, surface),
              "-o", out / f"{surface}.exr"])
+        if surface == "torus":
+            write_torus(out / TORUS["placement"]["mesh"])
         for factor in [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
-        if surface != "ball":  # mipmaps lie on planes, and tiles are instances only there
+        if surface not in CURVED:  # sections 4-5 view tiles on a plane, where they are instances
             if args.lod_spp:
                 level_of_detail(args, out, surface, lod_rows)
             if args.scale_tiles > 0:

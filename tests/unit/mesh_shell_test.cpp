@@ -1,9 +1,11 @@
 // Shell mapping over a mesh by its UVs (surface/mesh_shell.h): the subdivision, the map point of a
 // hit (tile coordinates and tangent frame) against the displaced triangles and against SphereShell
 // over a UV sphere, mirrored UVs, and what it refuses.
+#include "libvdbappear/render/mesh_file.h"
 #include "libvdbappear/surface/mesh_shell.h"
 #include "libvdbappear/surface/sphere_shell.h"
 
+#include "support/temp_dir.h"
 #include "support/test_random.h"
 #include "support/uv_meshes.h"
 
@@ -11,6 +13,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -119,6 +122,30 @@ TEST(MeshShell, MirroredUvsTurnTheFrame) {
   EXPECT_NEAR((at.frame.s - Vec3::UnitX()).norm(), 0, 1e-12);
   EXPECT_NEAR((at.frame.t + Vec3::UnitY()).norm(), 0, 1e-12);
   EXPECT_NEAR((at.frame.n - Vec3::UnitZ()).norm(), 0, 1e-12);
+}
+
+// A file's UVs are read as written; where it has no normals, smooth ones are made, across its UV
+// seams too (vertices at one position share their normal, so the map opens no crack there).
+TEST(MeshShell, ReadsUvsAndMakesSmoothNormalsWhereTheFileHasNone) {
+  const test::TempDir dir;
+  const std::vector<UvTriangle> sphere = test::uvSphere(Vec3(1, 2, 3), 0.5, 16, 8);
+  test::writeObj(dir.path("with.obj"), sphere);
+  test::writeObj(dir.path("without.obj"), sphere, true, false);
+  for (const char* name : {"with.obj", "without.obj"}) {
+    const std::vector<UvTriangle> read = readUvMesh(dir.path(name));
+    EXPECT_EQ(read.size(), std::size_t(16 * 8 * 2 - 2 * 16)) << name;  // less the poles' degenerate halves
+    std::vector<std::pair<Vec3, Vec3>> seen;  // position, normal
+    for (const UvTriangle& t : read)
+      for (int k = 0; k < 3; ++k) {
+        for (const auto& [position, normal] : seen)
+          if ((position - t.position[k]).norm() < 1e-6) EXPECT_LT((normal - t.normal[k]).norm(), 1e-6) << name;
+        seen.emplace_back(t.position[k], t.normal[k]);
+        const Vec3 radial = (t.position[k] - Vec3(1, 2, 3)).normalized();
+        EXPECT_GT(t.normal[k].dot(radial), std::string(name) == "with.obj" ? 1 - 1e-9 : 0.97) << name;
+        const double v = std::asin(std::clamp(radial.z(), -1.0, 1.0)) / kPi + 0.5;  // latitude, 0 at the south pole
+        EXPECT_NEAR(t.uv[k].y(), v, 1e-6) << name;
+      }
+  }
 }
 
 TEST(MeshShell, RefusesWhatItCannotPlace) {
