@@ -107,6 +107,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"pairs_per_spatial_bin", f.pairs_per_spatial_bin},
       {"positions_per_angular_bin", f.positions_per_angular_bin},
       {"bias_correction", f.jackknife ? "jackknife" : "none"},
+      {"shared_positions", f.shared_positions},
       {"max_theta_degrees", f.max_theta_degrees},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
@@ -196,6 +197,9 @@ int main(int argc, char** argv) {
                  "docs/displacement.md §9)")
       ->transform(CLI::CheckedTransformer(corrections, CLI::ignore_case))
       ->default_str("none");
+  app.add_flag("--shared-positions", s.factorization.shared_positions,
+               "S's bins of one view over the same positions and paths for every light direction: the tables "
+               "in less time, their noise alike along the light direction (docs/displacement.md §6)");
   app.add_option("--max-theta", s.factorization.max_theta_degrees,
                  "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
       ->check(CLI::Range(1.0, 89.0))

@@ -42,28 +42,47 @@ class ScalingEstimator {
       : original_(fine), prefiltered_(low.height), base_(base), s_(s) {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
     low_scattering_ = lowScattering();
+    original_scattering_ = microfacetScattering(base);
   }
 
   ScalingSample operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
     const int F = s_.factor;
-    const std::uint64_t seed = s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40);
+    const std::uint64_t seed = seedOf(u, v);
     if (s_.scaling == ScalingKind::Interreflection) {
-      MultiBounceSettings m;
-      m.samples_per_side = s_.samples_per_side;
-      m.max_vertices = s_.max_vertices;
-      m.seed = seed;
-      const EffectiveBrdf original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, base_, wi, wo, m);
+      const MultiBounceSettings m = multiBounce(seed);
+      const EffectiveBrdf original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, original_scattering_, wi, wo, m);
       const EffectiveBrdf low = multiBounceEffectiveBrdf(prefiltered_, u, v, 1, low_scattering_, wi, wo, m);
       return {original.value * original.visible_area, low.value * low.visible_area};
     }
     const EffectiveBrdf original =
         effectiveBrdf(original_, u * F, v * F, F, microfacetPatchBrdf(base_), wi, wo, single(seed));
-    const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
-    const EffectiveBrdf geometry = effectiveBrdf(prefiltered_, u, v, 1, one, wi, wo, single(seed));
+    const EffectiveBrdf geometry = effectiveBrdf(prefiltered_, u, v, 1, one(), wi, wo, single(seed));
     // Each weighted by its visible projected area toward wo (Eq. 4.8): the light the patch sends
     // toward the viewer, which is what a bin's sums compare (scaling_factorization.h).
     return {original.value * original.visible_area,
             cellBrdf(u, v).eval(wi, wo) * geometry.value * geometry.visible_area};
+  }
+
+  // The samples of every wi of `wis` at once (out[k] for wis[k]), from the same positions and paths:
+  // each as operator() gives it alone, whose random streams do not depend on wi.
+  void forView(int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out) const {
+    const int F = s_.factor;
+    const std::uint64_t seed = seedOf(u, v);
+    if (s_.scaling == ScalingKind::Interreflection) {
+      const MultiBounceSettings m = multiBounce(seed);
+      const std::vector<EffectiveBrdf> original =
+          multiBounceEffectiveBrdfs(original_, u * F, v * F, F, original_scattering_, wis, wo, m);
+      const std::vector<EffectiveBrdf> low = multiBounceEffectiveBrdfs(prefiltered_, u, v, 1, low_scattering_, wis, wo, m);
+      for (std::size_t k = 0; k < wis.size(); ++k)
+        out[k] = {original[k].value * original[k].visible_area, low[k].value * low[k].visible_area};
+      return;
+    }
+    const std::vector<EffectiveBrdf> original =
+        effectiveBrdfs(original_, u * F, v * F, F, microfacetPatchBrdf(base_), wis, wo, single(seed));
+    const std::vector<EffectiveBrdf> geometry = effectiveBrdfs(prefiltered_, u, v, 1, one(), wis, wo, single(seed));
+    for (std::size_t k = 0; k < wis.size(); ++k)
+      out[k] = {original[k].value * original[k].visible_area,
+                cellBrdf(u, v).eval(wis[k], wo) * geometry[k].value * geometry[k].visible_area};
   }
 
  private:
@@ -90,6 +109,17 @@ class ScalingEstimator {
     };
     return s;
   }
+  std::uint64_t seedOf(int u, int v) const { return s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40); }
+  MultiBounceSettings multiBounce(std::uint64_t seed) const {
+    MultiBounceSettings m;
+    m.samples_per_side = s_.samples_per_side;
+    m.max_vertices = s_.max_vertices;
+    m.seed = seed;
+    return m;
+  }
+  static PatchBrdf one() {
+    return [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb::Ones(); };
+  }
   EffectiveBrdfSettings single(std::uint64_t seed) const {
     EffectiveBrdfSettings e;
     e.samples_per_side = s_.samples_per_side;
@@ -100,6 +130,7 @@ class ScalingEstimator {
   MicroGeometry original_, prefiltered_;
   std::vector<MultiLobeBrdf> f_low_;  // per coarse cell
   PatchScattering low_scattering_;    // f'_low over G_low, built once (every R_ir sample uses it)
+  PatchScattering original_scattering_;  // f_orig over G_orig, likewise
   const MicrofacetBrdf& base_;
   const DisplacementPrefilterSettings& s_;
 };
@@ -127,8 +158,10 @@ PrefilteredSurface prefilterDisplacement(const HeightField& fine, const Microfac
   result.ndfs = fitPatchNdfs(fine, s);  // step 2
   result.seconds.ndfs = clock.lap();
   const ScalingEstimator R(fine, result, base, s);  // step 3
+  const ViewScalingSampler R_view = [&R](int u, int v, const std::vector<Vec3>& wis, const Vec3& wo,
+                                         ScalingSample* out) { R.forView(u, v, wis, wo, out); };
   result.scaling = factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(),
-                                    s.factorization, progress);  // step 4
+                                    s.factorization, progress, R_view);  // step 4
   result.seconds.scaling = clock.lap();
   return result;
 }

@@ -56,41 +56,94 @@ PatchBrdf microfacetPatchBrdf(const MicrofacetBrdf& base) {
   };
 }
 
-EffectiveBrdf visibleAreaAverage(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
-                                 const EffectiveBrdfSettings& settings, const PointReflectance& r) {
+namespace {
+
+// Calls visit(point, a, b, A) at each of the samples_per_side^2 jittered base positions that wo
+// sees, A = A_G(p, wo) of Eq. (4.7); returns the sum of A.
+template <typename Visit>
+double forVisiblePositions(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                           const EffectiveBrdfSettings& settings, Visit&& visit) {
   const HeightField& field = geometry.field();
   if (count < 1 || i0 < 0 || j0 < 0 || i0 + count > field.cellsX() || j0 + count > field.cellsY() ||
       settings.samples_per_side < 1)
     throw std::invalid_argument("effectiveBrdf: the patch leaves the height field, or no samples");
   RandomStream rng(settings.seed, {i0, j0, count});
-  const int n = settings.samples_per_side;
-  Rgb numerator = Rgb::Zero();
+  const int side = settings.samples_per_side;
   double area = 0;
-  for (int b = 0; b < n; ++b)
-    for (int a = 0; a < n; ++a) {
+  for (int b = 0; b < side; ++b)
+    for (int a = 0; a < side; ++a) {
       const Point2 jitter = rng.uniform2();
       const MicroGeometry::Point p =
-          geometry.at(i0 + count * (a + jitter.x()) / n, j0 + count * (b + jitter.y()) / n);
+          geometry.at(i0 + count * (a + jitter.x()) / side, j0 + count * (b + jitter.y()) / side);
       // A_G(p, wo) of Eq. (4.7): <wo, w_m> / <w_g, w_m> V(x, wo).
       const double cos_o = p.normal.dot(wo);
       if (cos_o <= 0 || (settings.visibility && !geometry.unoccluded(p, wo))) continue;
       const double A = cos_o / p.normal.z();
       area += A;
-      numerator += r(p, a, b) * A;
+      visit(p, a, b, A);
     }
+  return area;
+}
+
+// The ratio of Eq. (4.6) from the sums over the positions, and the mean visible area.
+EffectiveBrdf averageOver(const Rgb& numerator, double area, int side) {
   EffectiveBrdf result;
-  result.visible_area = area / (double(n) * n);
+  result.visible_area = area / (double(side) * side);
   if (area > 0) result.value = numerator / area;
   return result;
 }
 
+}  // namespace
+
+EffectiveBrdf visibleAreaAverage(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                                 const EffectiveBrdfSettings& settings, const PointReflectance& r) {
+  Rgb numerator = Rgb::Zero();
+  const double area = forVisiblePositions(geometry, i0, j0, count, wo, settings,
+                                          [&](const MicroGeometry::Point& p, int a, int b, double A) { numerator += r(p, a, b) * A; });
+  return averageOver(numerator, area, settings.samples_per_side);
+}
+
+std::vector<EffectiveBrdf> visibleAreaAverages(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                                               const EffectiveBrdfSettings& settings, std::size_t n,
+                                               const PointReflectances& r) {
+  std::vector<Rgb> numerators(n, Rgb::Zero()), values(n);
+  const double area = forVisiblePositions(geometry, i0, j0, count, wo, settings,
+                                          [&](const MicroGeometry::Point& p, int a, int b, double A) {
+                                            r(p, a, b, values.data());
+                                            for (std::size_t k = 0; k < n; ++k) numerators[k] += values[k] * A;
+                                          });
+  std::vector<EffectiveBrdf> results;
+  for (const Rgb& numerator : numerators) results.push_back(averageOver(numerator, area, settings.samples_per_side));
+  return results;
+}
+
+namespace {
+
+// f <w_m, wi> V(wi) of Eq. (4.6) at a visible point.
+Rgb lightedReflectance(const MicroGeometry& geometry, const MicroGeometry::Point& p, const PatchBrdf& f, const Vec3& wi,
+                       const Vec3& wo, bool visibility) {
+  const double cos_i = p.normal.dot(wi);
+  if (cos_i <= 0 || (visibility && !geometry.unoccluded(p, wi))) return Rgb::Zero();
+  return f(p.x, p.normal, wi, wo) * cos_i;
+}
+
+}  // namespace
+
 EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
                             const Vec3& wi, const Vec3& wo, const EffectiveBrdfSettings& settings) {
-  return visibleAreaAverage(geometry, i0, j0, count, wo, settings, [&](const MicroGeometry::Point& p, int, int) -> Rgb {
-    const double cos_i = p.normal.dot(wi);  // f <w_m, wi> V(wi) of Eq. (4.6)
-    if (cos_i <= 0 || (settings.visibility && !geometry.unoccluded(p, wi))) return Rgb::Zero();
-    return f(p.x, p.normal, wi, wo) * cos_i;
+  return visibleAreaAverage(geometry, i0, j0, count, wo, settings, [&](const MicroGeometry::Point& p, int, int) {
+    return lightedReflectance(geometry, p, f, wi, wo, settings.visibility);
   });
+}
+
+std::vector<EffectiveBrdf> effectiveBrdfs(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
+                                          const std::vector<Vec3>& wis, const Vec3& wo,
+                                          const EffectiveBrdfSettings& settings) {
+  return visibleAreaAverages(geometry, i0, j0, count, wo, settings, wis.size(),
+                             [&](const MicroGeometry::Point& p, int, int, Rgb* values) {
+                               for (std::size_t k = 0; k < wis.size(); ++k)
+                                 values[k] = lightedReflectance(geometry, p, f, wis[k], wo, settings.visibility);
+                             });
 }
 
 }  // namespace vdbappear

@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 namespace vdbappear {
 
@@ -74,5 +75,18 @@ EffectiveBrdf effectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int c
 using PointReflectance = std::function<Rgb(const MicroGeometry::Point& x, int a, int b)>;
 EffectiveBrdf visibleAreaAverage(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
                                  const EffectiveBrdfSettings& settings, const PointReflectance& r);
+
+// The same for `n` reflectances at once, over the same positions: `r(point, a, b, values)` writes
+// values[0 .. n); the result holds one average per reflectance, each with the same visible area.
+using PointReflectances = std::function<void(const MicroGeometry::Point& x, int a, int b, Rgb* values)>;
+std::vector<EffectiveBrdf> visibleAreaAverages(const MicroGeometry& geometry, int i0, int j0, int count, const Vec3& wo,
+                                               const EffectiveBrdfSettings& settings, std::size_t n,
+                                               const PointReflectances& r);
+
+// effectiveBrdf() for many light directions at once: out[k] for wis[k], from the same positions
+// (each equal to effectiveBrdf() of wis[k] alone, whose positions do not depend on wi).
+std::vector<EffectiveBrdf> effectiveBrdfs(const MicroGeometry& geometry, int i0, int j0, int count, const PatchBrdf& f,
+                                          const std::vector<Vec3>& wis, const Vec3& wo,
+                                          const EffectiveBrdfSettings& settings);
 
 }  // namespace vdbappear

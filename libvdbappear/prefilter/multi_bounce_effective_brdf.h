@@ -10,6 +10,7 @@
 #include "libvdbappear/surface/microfacet_brdf.h"
 
 #include <functional>
+#include <vector>
 
 namespace vdbappear {
 
@@ -36,6 +37,12 @@ struct MultiBounceSettings {
 EffectiveBrdf multiBounceEffectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count,
                                        const PatchScattering& f, const Vec3& wi, const Vec3& wo,
                                        const MultiBounceSettings& settings);
+// The same for many light directions at once, from the same positions and paths: a path's
+// directions do not depend on wi, and each vertex meets every wi by a visibility test of its own.
+// out[k] for wis[k], each equal to multiBounceEffectiveBrdf() of wis[k] alone (up to rounding).
+std::vector<EffectiveBrdf> multiBounceEffectiveBrdfs(const MicroGeometry& geometry, int i0, int j0, int count,
+                                                     const PatchScattering& f, const std::vector<Vec3>& wis,
+                                                     const Vec3& wo, const MultiBounceSettings& settings);
 inline EffectiveBrdf multiBounceEffectiveBrdf(const MicroGeometry& geometry, int i0, int j0, int count,
                                               const MicrofacetBrdf& f, const Vec3& wi, const Vec3& wo,
                                               const MultiBounceSettings& settings) {

@@ -82,6 +82,31 @@ Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::siz
   return s.jackknife ? jackknifedRatio(samples, sum, s.epsilon) : ratio(sum, s.epsilon);
 }
 
+// With shared_positions, S's bins of one wo (bin wo_bin): R at every wi bin's direction over the same positions, stratified
+// over the whole map, drawn from a stream keyed by the wo bin; out[k] for wis[k].
+void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis, const Vec3& wo, std::size_t wo_bin,
+                       int cells_x, int cells_y, const FactorizationSettings& s, Rgb* out) {
+  const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
+  const int count = s.positions_per_angular_bin;
+  RandomStream rng(s.seed, {2, std::int64_t(wo_bin)});
+  std::vector<ScalingSample> sums(wis.size()), batch(wis.size());
+  std::vector<std::vector<ScalingSample>> samples(s.jackknife ? wis.size() : 0);  // for the jackknife only
+  for (auto& bin : samples) bin.reserve(std::size_t(count));
+  for (int k = 0; k < count; ++k) {
+    const int stratum = k % (strata * strata);
+    const Point2 u = rng.uniform2();
+    const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
+    const auto [cu, cv] = cellAt(x, cells_x, cells_y);
+    R(cu, cv, wis, wo, batch.data());
+    for (std::size_t w = 0; w < wis.size(); ++w) {
+      add(&sums[w], batch[w]);
+      if (s.jackknife) samples[w].push_back(batch[w]);
+    }
+  }
+  for (std::size_t w = 0; w < wis.size(); ++w)
+    out[w] = s.jackknife ? jackknifedRatio(samples[w], sums[w], s.epsilon) : ratio(sums[w], s.epsilon);
+}
+
 }  // namespace
 
 Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
@@ -92,8 +117,15 @@ Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
   return {w.x() / r * std::sin(max_theta), w.y() / r * std::sin(max_theta), std::cos(max_theta)};
 }
 
+ViewScalingSampler sampledPerLight(ScalingSampler R) {
+  return [R = std::move(R)](int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out) {
+    for (std::size_t k = 0; k < wis.size(); ++k) out[k] = R(u, v, wis[k], wo);
+  };
+}
+
 FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
-                                   const FactorizationSettings& s, ProgressBar* progress) {
+                                   const FactorizationSettings& s, ProgressBar* progress,
+                                   const ViewScalingSampler& R_view) {
   if (cells_x < 1 || cells_y < 1 || s.spatial_resolution < 1 || s.angular_resolution < 1 ||
       s.pairs_per_spatial_bin < 1 || s.positions_per_angular_bin < 1)
     throw std::invalid_argument("factorizeScaling: empty map, table or sample count");
@@ -116,13 +148,30 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   for (Rgb& t : result.T.values) t = (mean > 0).select(t / mean, Rgb::Ones());
 
   const double max_theta = s.max_theta_degrees * kPi / 180;
-  tbb::parallel_for(std::size_t(0), result.S.values.size(), [&](std::size_t bin) {
-    const int oa = int(bin % N), ob = int(bin / N % N), ia = int(bin / (N * N) % N), ib = int(bin / (std::size_t(N) * N * N));
-    const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
+  if (!s.shared_positions) {
+    tbb::parallel_for(std::size_t(0), result.S.values.size(), [&](std::size_t bin) {
+      const int oa = int(bin % N), ob = int(bin / N % N), ia = int(bin / (N * N) % N), ib = int(bin / (std::size_t(N) * N * N));
+      const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
+      const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
+      result.S.values[result.S.index(ia, ib, oa, ob)] =
+          angularBin(R, wi, wo, bin, cells_x, cells_y, s).min(s.max_scaling);
+      if (progress) progress->advance();
+    });
+    return result;
+  }
+  std::vector<Vec3> wis;  // wi bin (ia, ib) at ia + N ib
+  for (int ib = 0; ib < N; ++ib)
+    for (int ia = 0; ia < N; ++ia) wis.push_back(limitPolarAngle(result.S.binDirection(ia, ib), max_theta));
+  const ViewScalingSampler per_view = R_view ? R_view : sampledPerLight(R);
+  tbb::parallel_for(std::size_t(0), std::size_t(N) * N, [&](std::size_t wo_bin) {
+    const int oa = int(wo_bin % N), ob = int(wo_bin / N);
     const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
-    result.S.values[result.S.index(ia, ib, oa, ob)] =
-        angularBin(R, wi, wo, bin, cells_x, cells_y, s).min(s.max_scaling);
-    if (progress) progress->advance();
+    std::vector<Rgb> values(wis.size());
+    angularBinsOfView(per_view, wis, wo, wo_bin, cells_x, cells_y, s, values.data());
+    for (int ib = 0; ib < N; ++ib)
+      for (int ia = 0; ia < N; ++ia)
+        result.S.values[result.S.index(ia, ib, oa, ob)] = values[std::size_t(ia + N * ib)].min(s.max_scaling);
+    if (progress) progress->advance(wis.size());
   });
   return result;
 }

@@ -6,7 +6,7 @@
 //   S_ir(wi, wo)  = int_P_all R_ir(x_m(p), wi, wo) k(p) dp         (Eq. 4.24).
 // T's bins average R over random positions in the bin and direction pairs drawn cosine-weighted,
 // then are scaled to average one; S's bins average R at the bin's directions over stratified
-// positions of the whole map. Their product reproduces a separable R exactly (Appendix B.2).
+// positions of the whole map (optionally the same positions and paths for every wi of one wo). Their product reproduces a separable R exactly (Appendix B.2).
 //
 // Each average is weighted by R's denominator: a bin is sum(original) / sum(prefiltered) over its
 // samples, the scaling that gives the samples together the original's reflected light. The plain
@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace vdbappear {
 
@@ -33,6 +34,12 @@ struct ScalingSample {
 };
 // Called from several threads.
 using ScalingSampler = std::function<ScalingSample(int u, int v, const Vec3& wi, const Vec3& wo)>;
+// The samples of one view wo and many light directions at once: out[k] for wis[k]. Where one
+// estimate serves them all (a path's directions do not depend on wi) this costs little more than
+// one; sampledPerLight() makes one from a ScalingSampler, a call per wi.
+using ViewScalingSampler =
+    std::function<void(int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out)>;
+ViewScalingSampler sampledPerLight(ScalingSampler R);
 
 struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   int spatial_resolution = 4;         // M
@@ -55,12 +62,20 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   // positions that make S usable; on the maps measured it moved the image by -0.03% to -0.24% at
   // 1024 positions (docs/displacement.md §9). T's bins, of many pairs each, are always plain.
   bool jackknife = false;
+  // S's bins of one wo over the same positions and paths for every wi (a path's directions do not
+  // depend on wi): the tables in less time, but their noise alike along wi (one view's bins move
+  // together), which an image under a sky averages less than a sun's few bins
+  // (docs/displacement.md §6). Off: each bin's own positions.
+  bool shared_positions = false;
   std::uint64_t seed = 1;
 };
 
-// Over a map of cells_x x cells_y coarse cells. Deterministic under the seed for any thread count.
+// Over a map of cells_x x cells_y coarse cells. T's bins from R; S's bins from R, or with
+// shared_positions those of one wo from R_view (R a call per wi when it is empty). Deterministic
+// under the seed for any thread count.
 FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
-                                   const FactorizationSettings& settings, ProgressBar* progress = nullptr);
+                                   const FactorizationSettings& settings, ProgressBar* progress = nullptr,
+                                   const ViewScalingSampler& R_view = {});
 
 // w with its polar angle limited to max_theta (radians), keeping its azimuth.
 Vec3 limitPolarAngle(const Vec3& w, double max_theta);

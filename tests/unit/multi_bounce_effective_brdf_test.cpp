@@ -39,6 +39,35 @@ TEST(MultiBounceEffectiveBrdf, OneVertexIsTheSingleBounceEstimate) {
   }
 }
 
+// Many light directions at once (the prefilter's S bins of one view) give each direction's estimate
+// alone: the positions and the paths do not depend on wi. Single- and multi-bounce; a wi near the
+// horizon and one below it (which only the steepest peaks see) among them.
+TEST(MultiBounceEffectiveBrdf, ManyLightDirectionsAtOnceAreEachAlone) {
+  const MicroGeometry geometry(bumpy(64));
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.9, 0.6, 0.3), Rgb(0.2, 0.3, 0.1));
+  const std::vector<Vec3> wis{directionFromDegrees(30, 0), directionFromDegrees(85, 120), directionFromDegrees(60, 45),
+                              directionFromDegrees(100, 200)};
+  const Vec3 wo = directionFromDegrees(40, 180);
+  MultiBounceSettings multi;
+  multi.samples_per_side = 12;
+  EffectiveBrdfSettings single;
+  single.samples_per_side = 12;
+  const std::vector<EffectiveBrdf> many = multiBounceEffectiveBrdfs(geometry, 16, 16, 32, microfacetScattering(base), wis, wo, multi);
+  const std::vector<EffectiveBrdf> many_single = effectiveBrdfs(geometry, 16, 16, 32, microfacetPatchBrdf(base), wis, wo, single);
+  ASSERT_EQ(many.size(), wis.size());
+  ASSERT_EQ(many_single.size(), wis.size());
+  for (std::size_t k = 0; k < wis.size(); ++k) {
+    const EffectiveBrdf alone = multiBounceEffectiveBrdf(geometry, 16, 16, 32, base, wis[k], wo, multi);
+    const EffectiveBrdf alone_single = effectiveBrdf(geometry, 16, 16, 32, microfacetPatchBrdf(base), wis[k], wo, single);
+    EXPECT_LE((many[k].value - alone.value).abs().maxCoeff(), 1e-12 * alone.value.maxCoeff()) << k;
+    EXPECT_LE((many_single[k].value - alone_single.value).abs().maxCoeff(), 1e-12 * alone_single.value.maxCoeff()) << k;
+    EXPECT_EQ(many[k].visible_area, alone.visible_area);
+    EXPECT_EQ(many_single[k].visible_area, alone_single.visible_area);
+    if (k < 3) EXPECT_GT(alone.value.minCoeff(), 0) << k;
+  }
+  EXPECT_GT((many[0].value - many[2].value).abs().maxCoeff(), 0.01 * many[0].value.maxCoeff());  // they differ
+}
+
 // Every reflected ray leaves a plane: the path integral is its first vertex, f cos theta_i.
 TEST(MultiBounceEffectiveBrdf, FlatSurfaceHasNoInterreflection) {
   HeightField flat(16, 16, 0.01);
