@@ -434,18 +434,15 @@ std::optional<SphereShell> shellOf(const HeightFieldDescription& field, double s
 }
 
 // What a height field's tiles lie on, other than the plane through its origin.
+// The mesh is read once per height field: a mipmap's levels and original displace copies of it.
 struct CurvedBase {
   std::optional<SphereShell> sphere;
-  std::shared_ptr<MeshShell> mesh;  // its subdivision fixed by the displacement
+  std::shared_ptr<const MeshShell> mesh;  // not displaced yet
   std::string mesh_file;
-  double vertices_per_cell = 1;     // over a mesh
 };
 
-// `prefiltered`: h_low, whose few cells each carry much of the shading; resampled at one vertex per
-// cell its facets' kinks are cut and the ball of Surfaces.MeshShellOverAUvSphereRendersAsTheSphereShell
-// came out 1.4% darker than over the analytic sphere (within Monte Carlo error at two).
-CurvedBase curvedBaseOf(const HeightFieldDescription& field, double size, bool prefiltered = false) {
-  CurvedBase base{shellOf(field, size), nullptr, field.mesh, field.vertices_per_cell.value_or(prefiltered ? 2.0 : 1.0)};
+CurvedBase curvedBaseOf(const HeightFieldDescription& field, double size) {
+  CurvedBase base{shellOf(field, size), nullptr, field.mesh};
   if (!field.mesh.empty()) {
     try {
       base.mesh = std::make_shared<MeshShell>(readUvMesh(field.mesh), field.placement.tiles_x, field.placement.tiles_y);
@@ -456,23 +453,32 @@ CurvedBase curvedBaseOf(const HeightFieldDescription& field, double size, bool p
   return base;
 }
 
+// Over a mesh, the vertices per map cell: `prefiltered`: h_low, whose few cells each carry much of
+// the shading; resampled at one vertex per cell its facets' kinks are cut and the ball of
+// Surfaces.MeshShellOverAUvSphereRendersAsTheSphereShell came out 1.4% darker than over the analytic
+// sphere (within Monte Carlo error at two).
+double verticesPerCell(const HeightFieldDescription& field, bool prefiltered) {
+  return field.vertices_per_cell.value_or(prefiltered ? 2.0 : 1.0);
+}
+
 // A height field's triangles: over a sphere or a mesh all of them; on a plane its first tile, and
 // the other tiles as copies of it (SurfaceScene instances: one tile's triangles in memory).
 struct PlacedMesh {
   std::vector<Triangle> triangles;
   std::vector<Vec3> copies;  // empty: the triangles alone
+  std::shared_ptr<const MeshShell> shell;  // over a mesh: the copy displaced, whose subdivision its hits need
 };
 
 PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightFieldPlacement placement,
-                      std::vector<std::string>* notes = nullptr) {
+                      double vertices_per_cell, std::vector<std::string>* notes) {
   if (base.mesh) {
     try {
-      PlacedMesh placed{base.mesh->displace(height, placement.height_scale, base.vertices_per_cell), {}};
+      auto shell = std::make_shared<MeshShell>(*base.mesh);  // each displacement fixes its own subdivision
+      PlacedMesh placed{shell->displace(height, placement.height_scale, vertices_per_cell), {}, shell};
       if (notes)
         notes->push_back(fmt::format("{}: {} triangles, each split {} times for a map of {} x {} cells per tile: {} triangles",
-                                     base.mesh_file, base.mesh->baseTriangles(),
-                                     base.mesh->subdivisions() * base.mesh->subdivisions(), height.cellsX(),
-                                     height.cellsY(), placed.triangles.size()));
+                                     base.mesh_file, shell->baseTriangles(), shell->subdivisions() * shell->subdivisions(),
+                                     height.cellsX(), height.cellsY(), placed.triangles.size()));
       return placed;
     } catch (const std::length_error& e) {
       throw std::runtime_error(base.mesh_file + ": " + e.what());
@@ -489,8 +495,9 @@ PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightF
   return mesh;
 }
 
-PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field, std::vector<std::string>* notes) {
-  return placedMesh(height, curvedBaseOf(field, field.size), field.placement, notes);
+PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field, const CurvedBase& base,
+                      std::vector<std::string>* notes) {
+  return placedMesh(height, base, field.placement, verticesPerCell(field, false), notes);
 }
 
 void extendBounds(const PlacedMesh& mesh, Aabb* bounds) {
@@ -505,13 +512,12 @@ void extendBounds(const PlacedMesh& mesh, Aabb* bounds) {
 
 // h_low of a prefiltered map, tessellated as a height field on the field's plane, sphere or mesh (its
 // heights are world units), and its SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
-void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription& field, DetailLevels levels,
-                      RenderScene* scene, Aabb* bounds) {
+void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription& field, const CurvedBase& base,
+                      DetailLevels levels, RenderScene* scene, Aabb* bounds) {
   if (!field.scaling) file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};  // f'_low alone
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
-  const CurvedBase base = curvedBaseOf(field, file.info.size, true);
-  const PlacedMesh mesh = placedMesh(file.surface.height, base, placement, &scene->notes);
+  const PlacedMesh mesh = placedMesh(file.surface.height, base, placement, verticesPerCell(field, true), &scene->notes);
   if (base.mesh) {
     // Heights are not stretched with the UVs: the model's slopes are the original's only where a
     // tile is as wide as the map was prefiltered for.
@@ -528,13 +534,15 @@ void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription&
   scene->prefiltered.push_back(
       {std::make_shared<PrefilteredBrdf>(file.surface, file.base,
                                          curved ? PrefilteredBrdf::Base::kCurved : PrefilteredBrdf::Base::kPlane),
-       placement.origin, file.info.size, base.sphere, base.mesh});
+       placement.origin, file.info.size, base.sphere, mesh.shell});
   scene->surfaces->addPrefiltered(mesh.triangles, int(scene->prefiltered.size() - 1), levels, mesh.copies);
 }
 
 void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
   if (!read) throw std::runtime_error(field.prefiltered + ": no reader for prefiltered displacement maps");
-  placePrefiltered(read(field.prefiltered), field, {}, scene, bounds);
+  PrefilteredSurfaceFile file = read(field.prefiltered);
+  const CurvedBase base = curvedBaseOf(field, file.info.size);
+  placePrefiltered(std::move(file), field, base, {}, scene, bounds);
 }
 
 // The levels of a mipmap in one scene: level j of n sees paths of level j, its last also those of
@@ -595,7 +603,7 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     if (height.cellsX() != fine_cells)
       throw std::runtime_error(field.file + ": " + std::to_string(height.cellsX()) + " cells across, the mipmap's levels prefilter " +
                                std::to_string(fine_cells));
-    const PlacedMesh mesh = placedMesh(height, original, &scene->notes);
+    const PlacedMesh mesh = placedMesh(height, original, base, &scene->notes);
     extendBounds(mesh, bounds);
     scene->brdfs.push_back(first.base);
     scene->surfaces->addGlossy(mesh.triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n), mesh.copies);
@@ -603,7 +611,7 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   }
   for (PrefilteredSurfaceFile& level : levels) {
     footprint.factors.push_back(level.info.factor);
-    placePrefiltered(std::move(level), field, mipmapLevel(j++, n), scene, bounds);
+    placePrefiltered(std::move(level), field, base, mipmapLevel(j++, n), scene, bounds);
   }
   scene->mipmaps.push_back(std::move(footprint));
 }
@@ -672,7 +680,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
       addPrefiltered(field, read_prefiltered, &scene, &everything);
       continue;
     }
-    const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field, &scene.notes);
+    const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field, curvedBaseOf(field, field.size), &scene.notes);
     extendBounds(mesh, &everything);
     addOpaque(mesh.triangles, field.albedo, field.brdf, &scene, mesh.copies);
   }
