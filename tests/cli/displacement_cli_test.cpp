@@ -4,6 +4,7 @@
 #include "libvdbappear/image/image_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 #include "support/uv_meshes.h"
 
@@ -19,18 +20,18 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kMakeMap;
+using test::kPrefilter;
+using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
 
-const std::string kMakeMap = quote(VDB_MAKE_HEIGHT_MAP);
-const std::string kPrefilter = quote(VDB_DISPLACEMENT_PREFILTER);
-const std::string kRender = quote(VDB_RENDER);
 // Rates small enough for a test: 8 x 8 coarse cells, 64 paths per estimate, S of 5^4 bins.
 const std::string kQuick = " -f 4 --paths 64 --angular-resolution 5 --pairs 50 --positions 4";
 
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
-int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 std::string contents(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};

@@ -4,6 +4,7 @@
 #include "libvdbappear/procedural/random_medium.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -18,15 +19,13 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kDownsample;
+using test::kMakeMedium;
 using test::quote;
 using test::readFileBytes;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kDownsample = quote(VDB_SGGX_DOWNSAMPLE);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 // A random medium file made by vdb_make_medium.
 std::string makeRandomFile(const TempDir& dir, int res = 40, int seed = 3) {

@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -18,18 +19,16 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kLobeCluster;
+using test::kMakeMedium;
+using test::kOptimize;
+using test::kRender;
+using test::kStack;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kStack = quote(VDB_EXEMPLAR_STACK);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
-const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
-const std::string kRender = quote(VDB_RENDER);
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
-int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
 // Four woven exemplars of 32 x 32 x 8 voxels and a 3 x 2 layout.
 struct Blocks {

@@ -2,6 +2,7 @@
 #include "libvdbappear/image/image_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -12,11 +13,10 @@
 namespace vdbappear {
 namespace {
 
+using test::kCompare;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kCompare = quote(VDB_IMAGE_COMPARE);
 
 // A 4x2 RGB image whose left half is `left` and right half `right`.
 std::string halves(const TempDir& dir, const std::string& name, float left, float right) {

@@ -7,6 +7,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/image_footprint.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
@@ -21,13 +22,12 @@ namespace vdbappear {
 namespace {
 
 using nlohmann::json;
+using test::kInfo;
+using test::kMakeMedium;
+using test::kRender;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kInfo = quote(VDB_INFO);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kRender = quote(VDB_RENDER);
 
 json infoJson(const std::string& path, const std::string& flags = "") {
   const auto r = runCommand(kInfo + " --json " + quote(path) + flags);

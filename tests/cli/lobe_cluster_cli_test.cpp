@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/identical_media.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
@@ -20,16 +21,14 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kDownsample;
+using test::kLobeCluster;
+using test::kMakeMedium;
+using test::kRender;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
-const std::string kDownsample = quote(VDB_SGGX_DOWNSAMPLE);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kRender = quote(VDB_RENDER);
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 // A small two-coloured twill made by vdb_make_medium.
 std::string makeTwill(const TempDir& dir) {

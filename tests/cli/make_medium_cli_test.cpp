@@ -4,6 +4,7 @@
 #include "libvdbappear/io/phase_tables.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -16,14 +17,12 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kMakeMedium;
+using test::kPreview;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kPreview = quote(VDB_PREVIEW);
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 const std::vector<std::string> kKinds{"twill", "velvet", "hairy-ball", "cube", "sphere",
                                       "slab",  "cloud",  "exemplars",  "random"};

@@ -4,6 +4,7 @@
 // (a rank that cannot read the medium, a rank that dies, a flag error, stdin) end the job with one
 // error line, a non-zero status and the previous output intact.
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -18,16 +19,15 @@
 namespace vdbappear {
 namespace {
 
+using test::kLobeCluster;
+using test::kMakeMedium;
+using test::kOptimize;
+using test::kOptimizeWithoutMpi;
+using test::kRender;
+using test::kRenderWithoutMpi;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kRender = quote(VDB_RENDER);
-const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
-const std::string kRenderWithoutMpi = quote(VDB_RENDER_WITHOUT_MPI);
-const std::string kOptimizeWithoutMpi = quote(VDB_OPTIMIZE_WEIGHTS_WITHOUT_MPI);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
 
 // Open MPI refuses root without the two settings (CI runs as root); more ranks than cores are
 // allowed; -q keeps mpirun's own banners out of stderr; containers may forbid the shared-memory

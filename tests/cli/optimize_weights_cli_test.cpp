@@ -6,6 +6,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -18,20 +19,18 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kDownsample;
+using test::kLobeCluster;
+using test::kMakeMedium;
+using test::kOptimize;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
 
-const std::string kOptimize = quote(VDB_OPTIMIZE_WEIGHTS);
-const std::string kLobeCluster = quote(VDB_LOBE_CLUSTER);
-const std::string kDownsample = quote(VDB_SGGX_DOWNSAMPLE);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
 // Tiny training runs: 16-pixel images, 4 samples per iteration.
 const std::string kQuick = " --resolution 16 --spp 4 --reference-spp 8 --tolerance 0 ";
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
-
-int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
 // A two-coloured twill and its 2-lobe, 2-cluster reduction at factor 4.
 struct Media {

@@ -5,6 +5,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/image_footprint.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
@@ -19,14 +20,13 @@
 namespace vdbappear {
 namespace {
 
+using test::exists;
+using test::kRender;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
 
-const std::string kRender = quote(VDB_RENDER);
 const std::string kCube = quote(std::string(GOLDEN_DIR) + "/cube8.vdb");
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 TEST(RenderCli, HelpHasExamples) {
   const auto help = runCommand(kRender + " --help");
@@ -318,7 +318,6 @@ TEST(RenderCli, GlossyGroundAndHeightFieldFromASceneFile) {
     EXPECT_FALSE(exists(out)) << c.name;
   }
 }
-
 
 TEST(RenderCli, BadInputFailsWithOneLineAndNoOutput) {
   TempDir dir;

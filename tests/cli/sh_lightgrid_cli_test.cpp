@@ -8,6 +8,7 @@
 #include "libvdbappear/math/spherical_harmonics.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -20,11 +21,10 @@ namespace vdbappear {
 namespace {
 
 using nlohmann::json;
+using test::kLightGrid;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kLightGrid = quote(VDB_SH_LIGHTGRID);
 
 constexpr const char* kLights = R"({"lights": [
   {"vertices": [[-1,-1,1.5],[-1,1,1.5],[1,1,1.5],[1,-1,1.5]], "radiance": [1,0.5,0.25]},

@@ -7,6 +7,7 @@
 #include "libvdbappear/similarity/similarity_relation.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -20,15 +21,13 @@ namespace vdbappear {
 namespace {
 
 using nlohmann::json;
+using test::exists;
+using test::kMakeMedium;
+using test::kRender;
+using test::kSimilarity;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kSimilarity = quote(VDB_SIMILARITY);
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kRender = quote(VDB_RENDER);
-
-bool exists(const std::string& path) { return std::filesystem::exists(path); }
 
 std::string makeCloud(const TempDir& dir, const std::string& name = "cloud.vdb") {
   const std::string path = dir.path(name);

@@ -7,6 +7,7 @@
 #include "libvdbappear/subsurface/dipole.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -20,11 +21,10 @@
 namespace vdbappear {
 namespace {
 
+using test::kRender;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
-
-const std::string kRender = quote(VDB_RENDER);
 
 // The cube of `vdb_make_medium cube`, [-0.5, 0.5]^3, as 12 counter-clockwise triangles.
 void writeCubeObj(const std::string& path, bool open = false) {

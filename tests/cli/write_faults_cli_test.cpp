@@ -6,6 +6,7 @@
 #include "libvdbappear/io/medium_file.h"
 
 #include "cli/run_command.h"
+#include "cli/tool_paths.h"
 #include "support/medium_testing.h"
 #include "support/temp_dir.h"
 
@@ -19,19 +20,17 @@
 namespace vdbappear {
 namespace {
 
+using test::kMakeMedium;
+using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::readFileBytes;
 using test::runCommand;
 using test::TempDir;
 
-const std::string kMakeMedium = quote(VDB_MAKE_MEDIUM);
-const std::string kRender = quote(VDB_RENDER);
-
 // A full disk, as the tool sees it: the shell's file-size limit (8 KiB) makes every write past it
 // fail with EFBIG, with SIGXFSZ ignored (a disk that fills up fails with ENOSPC the same way).
 std::string onAFullDisk(const std::string& command) { return "ulimit -f 8; trap '' XFSZ; " + command; }
-
-int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
 // Runs `command` with OUT replaced by the path of a file `name` that holds a previous result, on a
 // full disk: one error line naming the file, which stays as it was, and nothing else left.

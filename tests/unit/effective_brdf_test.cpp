@@ -43,7 +43,7 @@ TEST(EffectiveBrdf, FlatSurfaceHasScalingOne) {
 }
 
 // Slopes near 1 (RMS about 0.9): sinusoids of periods 5 to 30 cells.
-HeightField bumpy(int cells, std::uint64_t seed) {
+HeightField steepBumps(int cells, std::uint64_t seed) {
   return test::sinusoidHeightField(cells, 0.01, {30.0, 17.0, 9.0, 5.0}, 0.001, seed);
 }
 
@@ -51,7 +51,7 @@ HeightField bumpy(int cells, std::uint64_t seed) {
 // <wo, w_n> / <w_g, w_n> = cos theta_o for a patch with no mean slope. Without the masking term V
 // the facets that face wo but are hidden count too, and the area comes out too large.
 TEST(EffectiveBrdf, VisibleProjectedAreaIsTheMesoSurfaces) {
-  const HeightField field = bumpy(96, 3);
+  const HeightField field = steepBumps(96, 3);
   const MicroGeometry geometry(field);
   const Point2 slope = field.averageSlope(16, 16, 64);
   const Vec3 meso_normal = Vec3(-slope.x(), -slope.y(), 1).normalized();
@@ -75,7 +75,7 @@ TEST(EffectiveBrdf, VisibleProjectedAreaIsTheMesoSurfaces) {
 // h_low knows nothing of the micro-geometry's shadowing and masking, so the prefiltered model is too
 // bright (R < 1, the naive look of Fig. 4.2(d)), the more so toward grazing.
 TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
-  const HeightField fine = bumpy(96, 3);
+  const HeightField fine = steepBumps(96, 3);
   const HeightField low = downsampleHeights(fine, {16, 0.01});
   const MicroGeometry original(fine), prefiltered(low);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));

@@ -3,6 +3,7 @@
 #include "libvdbappear/image/exr_header_check.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/little_endian.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -16,7 +17,7 @@ namespace {
 
 using test::TempDir;
 
-std::string littleEndian32(std::uint32_t value) { return std::string(reinterpret_cast<const char*>(&value), 4); }
+using test::littleEndian32;
 
 // An attribute as the file holds it; `stated` overrides the size it states.
 std::string attribute(const std::string& name, const std::string& type, const std::string& value, std::int64_t stated = -1) {

@@ -28,7 +28,7 @@ HeightField sampled(int cells, double cell_size, const std::function<double(doub
 }
 
 // A bumpy map: sinusoids from 64 down to 3 fine cells of period, with random phases and directions.
-HeightField bumpy(int cells, std::uint64_t seed) {
+HeightField bumpsOfManyScales(int cells, std::uint64_t seed) {
   return test::sinusoidHeightField(cells, 0.01, {64.0, 37.0, 23.0, 13.0, 7.0, 4.5, 3.0}, 0.0002, seed);
 }
 
@@ -63,7 +63,7 @@ TEST(HeightField, CellSlopeIsTheMeanGradientOfTheBilinearCell) {
 // The renderer's triangles keep each cell's mean slope (Eq. 4.9): their edges are the cell's. The
 // mean of -n_xy / n_z over a cell's two triangles, weighted by their projected areas, is the slope.
 TEST(HeightField, TrianglesKeepEachCellsMeanSlopeAndFaceUp) {
-  const HeightField field = bumpy(16, 5);
+  const HeightField field = bumpsOfManyScales(16, 5);
   HeightFieldPlacement placement;
   placement.origin = Vec3(1, 2, 3);
   placement.tiles_x = 2;
@@ -142,7 +142,7 @@ TEST(HeightDownsample, KeepsAMapThatIsAlreadyCoarse) {
 // The point of §4.4.1: the coarse patches keep the original's mean slopes better than point
 // sampling (the negative control) does, on a map with detail below the coarse cell.
 TEST(HeightDownsample, KeepsMesoScaleSlopesWherePointSamplingDoesNot) {
-  const HeightField fine = bumpy(256, 17);
+  const HeightField fine = bumpsOfManyScales(256, 17);
   for (int factor : {4, 8, 16}) {
     const HeightField ours = downsampleHeights(fine, {factor, 0.01});
     const double target_rms = targetSlopeRms(fine, factor);
@@ -160,7 +160,7 @@ TEST(HeightDownsample, KeepsMesoScaleSlopesWherePointSamplingDoesNot) {
 }
 
 TEST(HeightDownsample, RefusesAFactorThatDoesNotDivideOrANegativeWeight) {
-  const HeightField fine = bumpy(60, 1);
+  const HeightField fine = bumpsOfManyScales(60, 1);
   EXPECT_THROW(downsampleHeights(fine, {8, 0.01}), std::invalid_argument);
   EXPECT_THROW(downsampleHeights(fine, {0, 0.01}), std::invalid_argument);
   EXPECT_THROW(downsampleHeights(fine, {4, -1}), std::invalid_argument);

@@ -8,6 +8,7 @@
 #include "libvdbappear/util/error.h"
 
 #include "support/medium_testing.h"
+#include "support/little_endian.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -25,7 +26,7 @@ using test::TempDir;
 
 constexpr std::uint32_t kHuge = 0xFFFFFF00u;  // 4 GiB less 256 bytes: what OpenVDB 10 would allocate
 
-std::string littleEndian32(std::uint32_t value) { return std::string(reinterpret_cast<const char*>(&value), 4); }
+using test::littleEndian32;
 
 // A small medium with a string metadata item, as the bytes of its file.
 std::string soundMediumBytes(const TempDir& dir) {
