@@ -22,6 +22,7 @@ namespace {
 using test::exists;
 using test::kDownsample;
 using test::kMakeMedium;
+using test::lineCount;
 using test::quote;
 using test::readFileBytes;
 using test::runCommand;
@@ -150,7 +151,7 @@ TEST(DownsampleCli, BadInputLeavesAnExistingOutputUntouched) {
   const auto r = runCommand(kDownsample + " -f 2 " + quote(in) + " " + quote(out));
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find(in + ": grid 'density': negative density -1"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_EQ(readFileBytes(out), "previous result");
   EXPECT_EQ(test::listFiles(dir.root()), (std::vector<std::string>{"negative.vdb", "out.vdb"}));
 }
@@ -218,7 +219,7 @@ TEST(DownsampleCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
   const auto small = runCommand(kDownsample + " -f 2 --memory 0.0001 " + quote(in) + " " + quote(none));
   EXPECT_EQ(small.status, 1);
   EXPECT_NE(small.err.find(in + ": a memory budget of 0.0001 GB is too small"), std::string::npos) << small.err;
-  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_EQ(lineCount(small.err), 1) << small.err;
   EXPECT_FALSE(exists(none));
 }
 

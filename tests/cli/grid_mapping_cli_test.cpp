@@ -19,6 +19,7 @@
 namespace vdbappear {
 namespace {
 
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
@@ -178,7 +179,7 @@ TEST(GridMappingCli, BadMappingsFailWithOneLineAndNoOutput) {
     EXPECT_NE(r.status, 0) << c.flag;
     if (c.status > 0) {
       EXPECT_EQ(r.status, c.status) << c.flag;
-      EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+      EXPECT_EQ(lineCount(r.err), 1) << r.err;
     }
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.flag << ": " << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << c.flag;

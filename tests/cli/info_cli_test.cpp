@@ -25,6 +25,7 @@ using nlohmann::json;
 using test::kInfo;
 using test::kMakeMedium;
 using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
@@ -161,7 +162,7 @@ TEST(InfoCli, BadInputGivesOneErrorLine) {
   auto r = runCommand(kInfo + " " + quote(dir.path("missing.vdb")));
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("missing.vdb"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
   const std::string cloud = dir.path("cloud.vdb"), truncated = dir.path("truncated.vdb");
   ASSERT_EQ(runCommand(kMakeMedium + " cloud --res 16 -o " + quote(cloud)).status, 0);
   {

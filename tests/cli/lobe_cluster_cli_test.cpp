@@ -26,6 +26,7 @@ using test::kDownsample;
 using test::kLobeCluster;
 using test::kMakeMedium;
 using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
@@ -73,7 +74,7 @@ TEST(LobeClusterCli, BadInputsAreOneErrorLineAndNoOutput) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find(lobes + ": grid '"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("': the medium is already multi-lobe"), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
   EXPECT_FALSE(exists(out));
 
   // A medium without SGGX grids (here HG) has no lobes to fit.
@@ -184,7 +185,7 @@ TEST(LobeClusterCli, SlabsGiveTheInCoreResultAndASmallBudgetIsRefused) {
   const auto small = runCommand(kLobeCluster + flags + "--memory 0.0001 " + quote(in) + " " + quote(none));
   EXPECT_EQ(small.status, 1);
   EXPECT_NE(small.err.find(in + ": a memory budget of 0.0001 GB is too small"), std::string::npos) << small.err;
-  EXPECT_EQ(std::count(small.err.begin(), small.err.end(), '\n'), 1) << small.err;
+  EXPECT_EQ(lineCount(small.err), 1) << small.err;
   EXPECT_FALSE(exists(none));
 }
 

@@ -22,6 +22,7 @@ namespace {
 
 using test::exists;
 using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
@@ -314,7 +315,7 @@ TEST(RenderCli, GlossyGroundAndHeightFieldFromASceneFile) {
     const auto r = runCommand(kRender + " " + kCube + " " + c.args + " -o " + quote(out));
     EXPECT_NE(r.status, 0) << c.name;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.name << ": " << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << c.name << ": " << r.err;
     EXPECT_FALSE(exists(out)) << c.name;
   }
 }

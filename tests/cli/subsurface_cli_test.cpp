@@ -22,6 +22,7 @@ namespace vdbappear {
 namespace {
 
 using test::kRender;
+using test::lineCount;
 using test::quote;
 using test::runCommand;
 using test::TempDir;
@@ -246,7 +247,7 @@ TEST(SubsurfaceCli, BadInputGetsOneErrorLineAndNoOutput) {
     const auto r = runCommand(kRender + " " + c.args + camera + " -o " + quote(out));
     EXPECT_NE(r.status, 0) << c.name;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.name << ": " << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), c.flag_parser ? 2 : 1) << c.name << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), c.flag_parser ? 2 : 1) << c.name << ": " << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << c.name;
   }
 }
