@@ -20,6 +20,19 @@ std::pair<int, int> cellAt(const Point2& x, int cells_x, int cells_y) {
   return {std::clamp(int(x.x() * cells_x), 0, cells_x - 1), std::clamp(int(x.y() * cells_y), 0, cells_y - 1)};
 }
 
+// The strata of S's n positions: nx columns by ny rows with nx ny = n, nx the largest divisor of n
+// not above sqrt(n) (1024: 32 x 32; 8192: 64 x 128; a prime: one row of strips), so that every
+// stratum holds exactly one position whether or not n is a square.
+struct Strata {
+  int nx, ny;
+  explicit Strata(int n) : nx(std::max(1, int(std::sqrt(double(n))))), ny(0) {
+    while (n % nx != 0) --nx;
+    ny = n / nx;
+  }
+  // Position k of the bin (k < nx ny), u uniform in its stratum.
+  Point2 position(int k, const Point2& u) const { return {(k % nx + u.x()) / nx, (k / nx + u.y()) / ny}; }
+};
+
 void add(ScalingSample* sum, const ScalingSample& sample) {
   sum->original += sample.original;
   sum->prefiltered += sample.prefiltered;
@@ -61,19 +74,17 @@ Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, const ScalingSamp
   return (jackknifed.isFinite() && jackknifed >= 0).select(jackknifed, plain);
 }
 
-// S's bin: R at the bins' directions over positions stratified over the whole map.
+// S's bin: R at the bins' directions over positions stratified over the whole map, one per stratum.
 Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::size_t bin, int cells_x, int cells_y,
                const FactorizationSettings& s) {
-  const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
   const int count = s.positions_per_angular_bin;
+  const Strata strata(count);
   RandomStream rng(s.seed, {1, std::int64_t(bin)});
   ScalingSample sum;
   std::vector<ScalingSample> samples;  // kept for the jackknife only
   if (s.jackknife) samples.reserve(std::size_t(count));
   for (int k = 0; k < count; ++k) {
-    const int stratum = k % (strata * strata);
-    const Point2 u = rng.uniform2();
-    const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
+    const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
     const ScalingSample sample = R(cu, cv, wi, wo);
     add(&sum, sample);
@@ -86,16 +97,14 @@ Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::siz
 // over the whole map, drawn from a stream keyed by the wo bin; out[k] for wis[k].
 void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis, const Vec3& wo, std::size_t wo_bin,
                        int cells_x, int cells_y, const FactorizationSettings& s, Rgb* out) {
-  const int strata = std::max(1, int(std::lround(std::sqrt(double(s.positions_per_angular_bin)))));
   const int count = s.positions_per_angular_bin;
+  const Strata strata(count);
   RandomStream rng(s.seed, {2, std::int64_t(wo_bin)});
   std::vector<ScalingSample> sums(wis.size()), batch(wis.size());
   std::vector<std::vector<ScalingSample>> samples(s.jackknife ? wis.size() : 0);  // for the jackknife only
   for (auto& bin : samples) bin.reserve(std::size_t(count));
   for (int k = 0; k < count; ++k) {
-    const int stratum = k % (strata * strata);
-    const Point2 u = rng.uniform2();
-    const Point2 x((stratum % strata + u.x()) / strata, (stratum / strata + u.y()) / strata);
+    const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
     R(cu, cv, wis, wo, batch.data());
     for (std::size_t w = 0; w < wis.size(); ++w) {

@@ -228,6 +228,30 @@ TEST(ScalingFactorization, SharedPositionsServeEveryLightDirectionOfAView) {
   EXPECT_LT(error, 0.035);
 }
 
+// S's positions are stratified one per stratum whatever their count: with the original reflecting
+// only in the map's last row (or column) of 8 cells, a bin is exactly that row's share of the
+// positions, 1/8. A grid of round(sqrt(n))^2 strata visited n times (before) leaves strata out
+// where n is not a square: at 8192 positions 89 of 91^2, nearly the whole last row of strata.
+TEST(ScalingFactorization, EveryStratumOfSHoldsOnePositionAtAnyCount) {
+  for (const int count : {64, 512, 1024, 8192})  // 8 x 8, 16 x 32, 32 x 32, 64 x 128 strata
+    for (const bool shared : {false, true})
+      for (const bool along_v : {false, true}) {
+        const int cells_x = along_v ? 1 : 8, cells_y = along_v ? 8 : 1;
+        const ScalingSampler lastRow = [&](int u, int v, const Vec3&, const Vec3&) {
+          const bool last = along_v ? v == cells_y - 1 : u == cells_x - 1;
+          return ScalingSample{Rgb::Constant(last ? 1.0 : 0.0), Rgb::Ones()};
+        };
+        FactorizationSettings s = smallTables();
+        s.angular_resolution = 1;
+        s.pairs_per_spatial_bin = 1;
+        s.positions_per_angular_bin = count;
+        s.shared_positions = shared;
+        s.epsilon = 0;
+        const FactorizedScaling f = factorizeScaling(lastRow, cells_x, cells_y, s);
+        EXPECT_DOUBLE_EQ(f.S.values[0][0], 0.125) << count << " positions, shared " << shared << ", along v " << along_v;
+      }
+}
+
 TEST(ScalingFactorization, SameTablesOnOneThreadAndMany) {
   const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb(spatialFactor(u, v), angularFactor(wi, wo), spatialFactor(v, u) * angularFactor(wo, wi)),
