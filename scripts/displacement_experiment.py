@@ -68,7 +68,10 @@ RATES = {"chapter": [],
          # n15 with S's bins of one view over the same positions and paths for every light direction:
          # the tables 2.5 (R) to 4 (R_ir) times faster, their noise alike along wi (docs/displacement.md §6).
          "n15-shared": ["--paths", "4", "--angular-resolution", "15", "--pairs", "16000", "--positions", "1024",
-                        "--shared-positions"]}
+                        "--shared-positions"],
+         # n15-shared's saving spent on eight times the positions (docs/displacement.md §6).
+         "shared8k": ["--paths", "4", "--angular-resolution", "15", "--pairs", "16000", "--positions", "8192",
+                      "--shared-positions"]}
 CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 34}
 SUN = {"type": "sun", "direction": [0.62, -0.38, -0.69], "strength": 3.0}
 SKY = {"type": "env", "radiance": [0.25, 0.3, 0.4]}
