@@ -5,6 +5,7 @@
 #include "libvdbappear/surface/height_downsample.h"
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
+#include "libvdbappear/util/hash_random.h"
 #include "libvdbappear/util/stopwatch.h"
 
 #include <tbb/parallel_for.h>
@@ -45,9 +46,9 @@ class ScalingEstimator {
     original_scattering_ = microfacetScattering(base);
   }
 
-  ScalingSample operator()(int u, int v, const Vec3& wi, const Vec3& wo) const {
+  ScalingSample operator()(int u, int v, std::uint64_t visit, const Vec3& wi, const Vec3& wo) const {
     const int F = s_.factor;
-    const std::uint64_t seed = seedOf(u, v);
+    const std::uint64_t seed = seedOf(u, v, visit);
     if (s_.scaling == ScalingKind::Interreflection) {
       const MultiBounceSettings m = multiBounce(seed);
       const EffectiveBrdf original = multiBounceEffectiveBrdf(original_, u * F, v * F, F, original_scattering_, wi, wo, m);
@@ -65,9 +66,10 @@ class ScalingEstimator {
 
   // The samples of every wi of `wis` at once (out[k] for wis[k]), from the same positions and paths:
   // each as operator() gives it alone, whose random streams do not depend on wi.
-  void forView(int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out) const {
+  void forView(int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis, const Vec3& wo,
+               ScalingSample* out) const {
     const int F = s_.factor;
-    const std::uint64_t seed = seedOf(u, v);
+    const std::uint64_t seed = seedOf(u, v, visit);
     if (s_.scaling == ScalingKind::Interreflection) {
       const MultiBounceSettings m = multiBounce(seed);
       const std::vector<EffectiveBrdf> original =
@@ -109,7 +111,10 @@ class ScalingEstimator {
     };
     return s;
   }
-  std::uint64_t seedOf(int u, int v) const { return s_.seed ^ (std::uint64_t(u) << 20) ^ (std::uint64_t(v) << 40); }
+  // The estimate's random numbers: of the cell and the visit (scaling_factorization.h).
+  std::uint64_t seedOf(int u, int v, std::uint64_t visit) const {
+    return hashKeys(s_.seed, {u, v, std::int64_t(visit)});
+  }
   MultiBounceSettings multiBounce(std::uint64_t seed) const {
     MultiBounceSettings m;
     m.samples_per_side = s_.samples_per_side;
@@ -158,8 +163,8 @@ PrefilteredSurface prefilterDisplacement(const HeightField& fine, const Microfac
   result.ndfs = fitPatchNdfs(fine, s);  // step 2
   result.seconds.ndfs = clock.lap();
   const ScalingEstimator R(fine, result, base, s);  // step 3
-  const ViewScalingSampler R_view = [&R](int u, int v, const std::vector<Vec3>& wis, const Vec3& wo,
-                                         ScalingSample* out) { R.forView(u, v, wis, wo, out); };
+  const ViewScalingSampler R_view = [&R](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
+                                         const Vec3& wo, ScalingSample* out) { R.forView(u, v, visit, wis, wo, out); };
   result.scaling = factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(),
                                     s.factorization, progress, R_view);  // step 4
   result.seconds.scaling = clock.lap();

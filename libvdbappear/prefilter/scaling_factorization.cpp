@@ -53,7 +53,7 @@ Rgb spatialBin(const ScalingSampler& R, int a, int b, int cells_x, int cells_y, 
     const auto [cu, cv] = cellAt(Point2((a + u.x()) / M, (b + u.y()) / M), cells_x, cells_y);
     const Vec3 wi = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
     const Vec3 wo = limitPolarAngle(sampleCosineHemisphere(rng.uniform2()), max_theta);
-    add(&sum, R(cu, cv, wi, wo));
+    add(&sum, R(cu, cv, std::uint64_t(k), wi, wo));
   }
   return ratio(sum, s.epsilon);
 }
@@ -86,7 +86,7 @@ Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::siz
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    const ScalingSample sample = R(cu, cv, wi, wo);
+    const ScalingSample sample = R(cu, cv, std::uint64_t(k), wi, wo);
     add(&sum, sample);
     if (s.jackknife) samples.push_back(sample);
   }
@@ -106,7 +106,7 @@ void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    R(cu, cv, wis, wo, batch.data());
+    R(cu, cv, std::uint64_t(k), wis, wo, batch.data());
     for (std::size_t w = 0; w < wis.size(); ++w) {
       add(&sums[w], batch[w]);
       if (s.jackknife) samples[w].push_back(batch[w]);
@@ -127,8 +127,9 @@ Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
 }
 
 ViewScalingSampler sampledPerLight(ScalingSampler R) {
-  return [R = std::move(R)](int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out) {
-    for (std::size_t k = 0; k < wis.size(); ++k) out[k] = R(u, v, wis[k], wo);
+  return [R = std::move(R)](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis, const Vec3& wo,
+                            ScalingSample* out) {
+    for (std::size_t k = 0; k < wis.size(); ++k) out[k] = R(u, v, visit, wis[k], wo);
   };
 }
 

@@ -32,13 +32,16 @@ struct ScalingSample {
   Rgb original = Rgb::Zero();     // f_eff or f_ir_eff of G_orig with f_orig (times a weight)
   Rgb prefiltered = Rgb::Zero();  // f_eff of G_low with f'_low (times the same or a like weight)
 };
-// Called from several threads.
-using ScalingSampler = std::function<ScalingSample(int u, int v, const Vec3& wi, const Vec3& wo)>;
+// Called from several threads. `visit` keys the estimate's random numbers: a bin's k-th position
+// is its visit k, so that two positions of a bin in one coarse cell are independent estimates (keyed
+// by the cell alone, a bin of more positions than the map has cells counted each estimate again,
+// and gained nothing from them; docs/displacement.md §6).
+using ScalingSampler = std::function<ScalingSample(int u, int v, std::uint64_t visit, const Vec3& wi, const Vec3& wo)>;
 // The samples of one view wo and many light directions at once: out[k] for wis[k]. Where one
 // estimate serves them all (a path's directions do not depend on wi) this costs little more than
 // one; sampledPerLight() makes one from a ScalingSampler, a call per wi.
-using ViewScalingSampler =
-    std::function<void(int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out)>;
+using ViewScalingSampler = std::function<void(int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
+                                              const Vec3& wo, ScalingSample* out)>;
 ViewScalingSampler sampledPerLight(ScalingSampler R);
 
 struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)

@@ -81,7 +81,7 @@ double relativeRmsError(const FactorizedScaling& factors, const ScalingSampler& 
     const double ua = random.uniform(), ub = random.uniform(), oa = random.uniform(), ob = random.uniform();
     const Vec3 wi = limitPolarAngle(sampleCosineHemisphere(Point2(ua, ub)), 75 * kPi / 180);
     const Vec3 wo = limitPolarAngle(sampleCosineHemisphere(Point2(oa, ob)), 75 * kPi / 180);
-    const ScalingSample sample = R(u, v, wi, wo);
+    const ScalingSample sample = R(u, v, 0, wi, wo);
     const double r = sample.original[0] / sample.prefiltered[0], approx = factors(Point2((u + 0.5) / 16, (v + 0.5) / 16), wi, wo)[0];
     sum += (approx / r - 1) * (approx / r - 1);
   }
@@ -99,7 +99,7 @@ FactorizationSettings smallTables() {
 // Appendix B.2: for R = t(x) s(wi, wo), T averages one and follows t, and T S = R up to the
 // sampling of the positions and the angular table's interpolation.
 TEST(ScalingFactorization, SeparableScalingIsReproduced) {
-  const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
+  const ScalingSampler R = [](int u, int v, std::uint64_t, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb::Constant(spatialFactor(u, v) * angularFactor(wi, wo)), Rgb::Ones()};
   };
   const FactorizedScaling factors = factorizeScaling(R, 16, 16, smallTables());
@@ -122,7 +122,7 @@ TEST(ScalingFactorization, SeparableScalingIsReproduced) {
 // A spatial variation that changes with the light's direction is not rank one: the factorisation
 // cannot follow it (the chapter's Fig. 4.6 measures how small this part is for real surfaces).
 TEST(ScalingFactorization, NonSeparableScalingIsNot) {
-  const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
+  const ScalingSampler R = [](int u, int v, std::uint64_t, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb::Constant(angularFactor(wi, wo) + 0.5 * std::sin(u * 0.4 + v * 0.1) * wi.x()), Rgb::Ones()};
   };
   // Measured: 0.25.
@@ -132,7 +132,7 @@ TEST(ScalingFactorization, NonSeparableScalingIsNot) {
 // Where the prefiltered model reflects nothing of the original's light (here: light beyond 60
 // degrees), S stops at max_scaling; where neither reflects, footnote 2's epsilon makes it 1.
 TEST(ScalingFactorization, BinsTheModelCannotCarryAreCapped) {
-  const ScalingSampler R = [](int, int, const Vec3& wi, const Vec3&) {
+  const ScalingSampler R = [](int, int, std::uint64_t, const Vec3& wi, const Vec3&) {
     const bool grazing = wi.z() < 0.5;
     return ScalingSample{Rgb(1, 0, 1), grazing ? Rgb(0, 0, 0) : Rgb(0.5, 0, 0.5)};
   };
@@ -160,7 +160,7 @@ TEST(ScalingFactorization, JackknifeRemovesTheBiasOfFewPositions) {
   double sum = 0;
   for (double& p : prefiltered) sum += p = 0.1 + std::pow(random.uniform(), 3);
   const double exact = kCells * kCells / sum;  // the map-wide ratio
-  const ScalingSampler R = [&](int u, int v, const Vec3&, const Vec3&) {
+  const ScalingSampler R = [&](int u, int v, std::uint64_t, const Vec3&, const Vec3&) {
     return ScalingSample{Rgb::Ones(), Rgb::Constant(prefiltered[std::size_t(u + kCells * v)])};
   };
   FactorizationSettings s = smallTables();
@@ -185,7 +185,7 @@ TEST(ScalingFactorization, JackknifeRemovesTheBiasOfFewPositions) {
 // (to 2.5% RMS).
 TEST(ScalingFactorization, SharedPositionsServeEveryLightDirectionOfAView) {
   constexpr int kCells = 16;
-  const ScalingSampler varying = [](int u, int v, const Vec3&, const Vec3&) {
+  const ScalingSampler varying = [](int u, int v, std::uint64_t, const Vec3&, const Vec3&) {
     return ScalingSample{Rgb::Ones(), Rgb::Constant(0.1 + 0.05 * ((u * 7 + v * 3) % 11))};
   };
   FactorizationSettings s = smallTables();
@@ -207,10 +207,11 @@ TEST(ScalingFactorization, SharedPositionsServeEveryLightDirectionOfAView) {
 
   std::atomic<int> calls{0};
   std::atomic<std::size_t> lights{0};
-  const ViewScalingSampler per_view = [&](int u, int v, const std::vector<Vec3>& wis, const Vec3& wo, ScalingSample* out) {
+  const ViewScalingSampler per_view = [&](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis, const Vec3& wo,
+                                            ScalingSample* out) {
     ++calls;
     lights += wis.size();
-    sampledPerLight(varying)(u, v, wis, wo, out);
+    sampledPerLight(varying)(u, v, visit, wis, wo, out);
   };
   s.shared_positions = true;
   factorizeScaling(varying, kCells, kCells, s, nullptr, per_view);
@@ -218,7 +219,7 @@ TEST(ScalingFactorization, SharedPositionsServeEveryLightDirectionOfAView) {
   EXPECT_EQ(calls.load(), N * N * s.positions_per_angular_bin);
   EXPECT_EQ(lights.load(), std::size_t(N) * N * N * N * s.positions_per_angular_bin);
 
-  const ScalingSampler separable = [](int u, int v, const Vec3& wi, const Vec3& wo) {
+  const ScalingSampler separable = [](int u, int v, std::uint64_t, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb::Constant(spatialFactor(u, v) * angularFactor(wi, wo)), Rgb::Ones()};
   };
   FactorizationSettings shared = smallTables();
@@ -237,7 +238,7 @@ TEST(ScalingFactorization, EveryStratumOfSHoldsOnePositionAtAnyCount) {
     for (const bool shared : {false, true})
       for (const bool along_v : {false, true}) {
         const int cells_x = along_v ? 1 : 8, cells_y = along_v ? 8 : 1;
-        const ScalingSampler lastRow = [&](int u, int v, const Vec3&, const Vec3&) {
+        const ScalingSampler lastRow = [&](int u, int v, std::uint64_t, const Vec3&, const Vec3&) {
           const bool last = along_v ? v == cells_y - 1 : u == cells_x - 1;
           return ScalingSample{Rgb::Constant(last ? 1.0 : 0.0), Rgb::Ones()};
         };
@@ -253,7 +254,7 @@ TEST(ScalingFactorization, EveryStratumOfSHoldsOnePositionAtAnyCount) {
 }
 
 TEST(ScalingFactorization, SameTablesOnOneThreadAndMany) {
-  const ScalingSampler R = [](int u, int v, const Vec3& wi, const Vec3& wo) {
+  const ScalingSampler R = [](int u, int v, std::uint64_t, const Vec3& wi, const Vec3& wo) {
     return ScalingSample{Rgb(spatialFactor(u, v), angularFactor(wi, wo), spatialFactor(v, u) * angularFactor(wo, wi)),
                          Rgb(1, 0.5, 2)};
   };
