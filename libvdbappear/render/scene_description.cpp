@@ -484,7 +484,7 @@ PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightF
       throw std::runtime_error(base.mesh_file + ": " + e.what());
     }
   }
-  if (base.sphere) return {shellTriangles(height, *base.sphere, placement.height_scale), {}};
+  if (base.sphere) return {shellTriangles(height, *base.sphere, placement.height_scale), {}, nullptr};
   PlacedMesh mesh;
   if (placement.tiles_x * placement.tiles_y > 1)
     for (int b = 0; b < placement.tiles_y; ++b)
