@@ -32,13 +32,18 @@ UVs) and each downsampling factor of --factors:
    (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 85 original cells
    of a 1K^2 map (2.7 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
    each rendered for the time the original takes at --scale-spp, against the original at
-   --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball is left out: tiles
-   on a sphere are not instances, and enough of them for this footprint do not fit in memory.
+   --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball: tiles on a sphere
+   are not instances, and enough of them for this footprint do not fit in memory, so that its
+   footprint comes from a smaller image instead: the same base over its bumps map at
+   --ball-scale-cells^2 (16.8 M triangles at 512), seen as in sections 1-2 at --ball-scale-res, so
+   that a pixel covers about 13 original cells where the ball faces the camera (the chapter's ball,
+   Table 4.3: its bumps map at 1K^2 over 4^2 tiles, prefiltered at 16x).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-scale-cells 512] [--ball-scale-res 128x96] [--no-study]
 """
 import argparse
 import json
@@ -94,7 +99,11 @@ BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
 TORUS = {"map": "bumps", "ring": 1 / 0.35, "tube": 0.4 / 0.35, "quads": (96, 48),
          "placement": {"mesh": "torus.obj", "tiles": [18, 7]},
          "camera": {"position": [1.43, -9.14, 5.71], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
-CURVED = {"ball": BALL, "torus": TORUS}
+# Section 5 on the ball: its tiles over a sphere are not instances, so that the footprint comes from a
+# smaller image, not from more tiles: the bumps map at --ball-scale-cells^2 (512: 16.8 M triangles)
+# over the ball of sections 1-2, seen as there at --ball-scale-res.
+BALL_SCALE = dict(BALL)
+CURVED = {"ball": BALL, "torus": TORUS, "ball_scale": BALL_SCALE}
 
 
 def map_kind(surface):
@@ -152,7 +161,7 @@ def reusable(manifest, report, cells, factor, brdf, rates):
 
 
 def map_cells(args, surface):
-    return {"ball": args.ball_cells, "torus": args.torus_cells}.get(surface, args.cells)
+    return {"ball": args.ball_cells, "torus": args.torus_cells, "ball_scale": args.ball_scale_cells}.get(surface, args.cells)
 
 
 def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
@@ -295,11 +304,11 @@ def level_of_detail(args, out, surface, lod_rows):
               f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
 
 
-def equal_time(args, out, tag, fields, reference, spp, camera):
+def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
     """The first field ("original") at spp samples per pixel, every other for the time it took, under
     global illumination: the seconds, and per field its RMSE, mean error, spp and peak memory against
     the reference."""
-    res = [int(v) for v in args.res.split("x")]
+    res = res or [int(v) for v in args.res.split("x")]
     seconds, results = None, {}
     for model, field in fields.items():
         name = f"{tag}_{model}_{spp}"
@@ -341,6 +350,42 @@ def chapter_scale(args, out, surface, scale_rows, timing_rows):
                "models": results}
         scale_rows.append(row)
         print(f"{surface} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
+              ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
+
+
+def ball_cells_per_pixel(args):
+    """Original cells across a pixel where the ball faces the camera (tiles of width 1 at its equator;
+    the camera's fov is vertical)."""
+    camera, height = BALL["camera"], int(args.ball_scale_res.split("x")[1])
+    distance = math.dist(camera["position"], BALL["placement"]["sphere"]) - BALL_RADIUS
+    return 2 * math.tan(math.radians(camera["fov"] / 2)) * distance / height * args.ball_scale_cells
+
+
+def ball_at_scale(args, out, scale_rows, timing_rows):
+    """Section 5 on the ball: the glossy base over the ball of BALL_SCALE, its R_ir models at --factors
+    each rendered for the original's time at --scale-spp, against the original at --scale-spp-ref."""
+    surface, camera = "ball_scale", BALL["camera"]
+    res = [int(v) for v in args.ball_scale_res.split("x")]
+    run([tool(args.build, "vdb_make_height_map"), "bumps", "--cells", args.ball_scale_cells, "-o", out / f"{surface}.exr"])
+    placement = BALL["placement"]
+    fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, **placement}}
+    for factor in [int(f) for f in args.factors.split(",")]:
+        manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
+                                               tag="_glossy")
+        timing_rows.append({"surface": f"ball {args.ball_scale_cells}^2 (glossy)", "factor": factor,
+                            "scaling": "interreflection", "seconds": prefilter_report["settings"]["seconds"],
+                            "bytes": prefilter_report["bytes"], "ranges": prefilter_report["scaling"]})
+        fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, **placement}
+    reference, _ = render(args.build, out, f"{surface}_reference", fields["original"], "gi", res,
+                          spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
+    cells = ball_cells_per_pixel(args)
+    for spp in [int(v) for v in args.scale_spp.split(",")]:
+        seconds, results = equal_time(args, out, surface, fields, reference, spp, camera, res)
+        row = {"surface": f"ball ({args.ball_scale_cells}^2 map, 8 x 4 tiles, {res[0]} x {res[1]} pixels, "
+                          f"{cells:.0f} cells across a pixel)", "tag": surface, "spp": spp, "seconds": seconds,
+               "original": results.pop("original"), "models": results}
+        scale_rows.append(row)
+        print(f"ball at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
               ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
 
 
@@ -402,7 +447,9 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                   f"Global illumination; base BRDF {json.dumps(GLOSSY)}; the view of sections 1-3 scaled to the tiles, "
                   f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
                   f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
-                  f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render.", "",
+                  f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render. The ball "
+                  f"(if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, seen as in "
+                  f"sections 1-2 at {args.ball_scale_res} pixels (its tiles over a sphere are not instances).", "",
                   "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
                   " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
                   " | lowest |", "|---" * (6 + len(models)) + "|"]
@@ -433,7 +480,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ("original", "mipmap", "models")))
     for r in scale_rows:
-        tag = f"{r['surface']}_scale"
+        tag = r.get("tag", f"{r['surface']}_scale")
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
     (out / "report.md").write_text("\n".join(lines) + "\n")
@@ -468,6 +515,10 @@ def main():
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
     parser.add_argument("--scale-spp-ref", type=int, default=2048)
+    parser.add_argument("--ball-scale-cells", type=int, default=512,
+                        help="of the ball's map in section 5 (0: the ball is left out of it)")
+    parser.add_argument("--ball-scale-res", default="128x96", help="of the ball's images in section 5")
+    parser.add_argument("--no-study", action="store_true", help="leave out sections 1-3 (to run sections 4-5 alone)")
     args = parser.parse_args()
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
@@ -481,13 +532,15 @@ def main():
              "-o", out / f"{surface}.exr"])
         if surface == "torus":
             write_torus(out / TORUS["placement"]["mesh"])
-        for factor in [int(f) for f in args.factors.split(",")]:
+        for factor in [] if args.no_study else [int(f) for f in args.factors.split(",")]:
             study(args, out, surface, factor, rows, timing_rows)
         if surface not in CURVED:  # sections 4-5 view tiles on a plane, where they are instances
             if args.lod_spp:
                 level_of_detail(args, out, surface, lod_rows)
             if args.scale_tiles > 0:
                 chapter_scale(args, out, surface, scale_rows, timing_rows)
+        elif surface == "ball" and args.scale_tiles > 0 and args.ball_scale_cells > 0:
+            ball_at_scale(args, out, scale_rows, timing_rows)
     write_report(args, out, rows, timing_rows, lod_rows, time.time() - start, scale_rows)
     print(f"{out / 'report.md'}: {sum(r['passed'] for r in rows)} of {len(rows)} gates pass")
 
