@@ -99,11 +99,7 @@ BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
 TORUS = {"map": "bumps", "ring": 1 / 0.35, "tube": 0.4 / 0.35, "quads": (96, 48),
          "placement": {"mesh": "torus.obj", "tiles": [18, 7]},
          "camera": {"position": [1.43, -9.14, 5.71], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
-# Section 5 on the ball: its tiles over a sphere are not instances, so that the footprint comes from a
-# smaller image, not from more tiles: the bumps map at --ball-scale-cells^2 (512: 16.8 M triangles)
-# over the ball of sections 1-2, seen as there at --ball-scale-res.
-BALL_SCALE = dict(BALL)
-CURVED = {"ball": BALL, "torus": TORUS, "ball_scale": BALL_SCALE}
+CURVED = {"ball": BALL, "torus": TORUS}
 
 
 def map_kind(surface):
@@ -328,29 +324,34 @@ def scaled_camera(tiles):
             "up": CAMERA["up"], "fov": CAMERA["fov"]}
 
 
-def chapter_scale(args, out, surface, scale_rows, timing_rows):
-    """Section 5: equal time with a glossy base over many tiles seen from afar (Table 4.5's setting)."""
-    res = [int(v) for v in args.res.split("x")]
-    factors = [int(f) for f in args.factors.split(",")]
-    tiles = [args.scale_tiles, args.scale_tiles]
-    camera = scaled_camera(args.scale_tiles)
-    fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, "tiles": tiles}}
-    for factor in factors:
+def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_rows, timing_rows):
+    """Section 5 for one map (out/{surface}.exr) placed by `placement`: the glossy base, its R_ir models at
+    --factors, each rendered for the time the original takes at --scale-spp, against the original at
+    --scale-spp-ref (another seed); images named after `tag`."""
+    fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, **placement}}
+    for factor in [int(f) for f in args.factors.split(",")]:
         manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
                                                tag="_glossy")
         timing_rows.append({"surface": f"{surface} (glossy)", "factor": factor, "scaling": "interreflection",
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
-        fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, "tiles": tiles}
-    reference, _ = render(args.build, out, f"{surface}_scale_reference", fields["original"], "gi", res,
+        fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, **placement}
+    reference, _ = render(args.build, out, f"{tag}_reference", fields["original"], "gi", res,
                           spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
     for spp in [int(v) for v in args.scale_spp.split(",")]:
-        seconds, results = equal_time(args, out, f"{surface}_scale", fields, reference, spp, camera)
-        row = {"surface": surface, "spp": spp, "seconds": seconds, "original": results.pop("original"),
+        seconds, results = equal_time(args, out, tag, fields, reference, spp, camera, res)
+        row = {"surface": surface, "tag": tag, "spp": spp, "seconds": seconds, "original": results.pop("original"),
                "models": results}
         scale_rows.append(row)
         print(f"{surface} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
               ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
+
+
+def chapter_scale(args, out, surface, scale_rows, timing_rows):
+    """Section 5: equal time with a glossy base over many tiles seen from afar (Table 4.5's setting)."""
+    equal_time_at_scale(args, out, surface, f"{surface}_scale", {"tiles": [args.scale_tiles, args.scale_tiles]},
+                        scaled_camera(args.scale_tiles), [int(v) for v in args.res.split("x")], scale_rows,
+                        timing_rows)
 
 
 def ball_cells_per_pixel(args):
@@ -362,31 +363,12 @@ def ball_cells_per_pixel(args):
 
 
 def ball_at_scale(args, out, scale_rows, timing_rows):
-    """Section 5 on the ball: the glossy base over the ball of BALL_SCALE, its R_ir models at --factors
-    each rendered for the original's time at --scale-spp, against the original at --scale-spp-ref."""
-    surface, camera = "ball_scale", BALL["camera"]
-    res = [int(v) for v in args.ball_scale_res.split("x")]
-    run([tool(args.build, "vdb_make_height_map"), "bumps", "--cells", args.ball_scale_cells, "-o", out / f"{surface}.exr"])
-    placement = BALL["placement"]
-    fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, **placement}}
-    for factor in [int(f) for f in args.factors.split(",")]:
-        manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
-                                               tag="_glossy")
-        timing_rows.append({"surface": f"ball {args.ball_scale_cells}^2 (glossy)", "factor": factor,
-                            "scaling": "interreflection", "seconds": prefilter_report["settings"]["seconds"],
-                            "bytes": prefilter_report["bytes"], "ranges": prefilter_report["scaling"]})
-        fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, **placement}
-    reference, _ = render(args.build, out, f"{surface}_reference", fields["original"], "gi", res,
-                          spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
-    cells = ball_cells_per_pixel(args)
-    for spp in [int(v) for v in args.scale_spp.split(",")]:
-        seconds, results = equal_time(args, out, surface, fields, reference, spp, camera, res)
-        row = {"surface": f"ball ({args.ball_scale_cells}^2 map, 8 x 4 tiles, {res[0]} x {res[1]} pixels, "
-                          f"{cells:.0f} cells across a pixel)", "tag": surface, "spp": spp, "seconds": seconds,
-               "original": results.pop("original"), "models": results}
-        scale_rows.append(row)
-        print(f"ball at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
-              ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
+    """Section 5 on the ball: its tiles over a sphere are not instances, so that the footprint comes from
+    a smaller image, not from more tiles: the bumps map at --ball-scale-cells^2 (512: 16.8 M
+    triangles) over the ball of sections 1-2, seen as there at --ball-scale-res."""
+    run([tool(args.build, "vdb_make_height_map"), "bumps", "--cells", args.ball_scale_cells, "-o", out / "ball_scale.exr"])
+    equal_time_at_scale(args, out, "ball_scale", "ball_scale", BALL["placement"], BALL["camera"],
+                        [int(v) for v in args.ball_scale_res.split("x")], scale_rows, timing_rows)
 
 
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
@@ -448,8 +430,10 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                   f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
                   f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
                   f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render. The ball "
-                  f"(if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, seen as in "
-                  f"sections 1-2 at {args.ball_scale_res} pixels (its tiles over a sphere are not instances).", "",
+                  f"(`ball_scale`, if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, "
+                  f"8 x 4 tiles, seen as in sections 1-2 at {args.ball_scale_res} pixels, about "
+                  f"{ball_cells_per_pixel(args):.0f} original cells across a pixel where it faces the camera (its "
+                  f"tiles over a sphere are not instances).", "",
                   "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
                   " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
                   " | lowest |", "|---" * (6 + len(models)) + "|"]
@@ -480,7 +464,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ("original", "mipmap", "models")))
     for r in scale_rows:
-        tag = r.get("tag", f"{r['surface']}_scale")
+        tag = r["tag"]
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
     (out / "report.md").write_text("\n".join(lines) + "\n")
