@@ -19,8 +19,20 @@ const MultiLobeBrdf& PrefilteredBrdf::cellAt(const Point2& x) const {
   return cells_[std::size_t(u) + std::size_t(cells_x_) * v];
 }
 
-Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const {
+Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch,
+                          const Vec3& coarse_normal) const {
   const MultiLobeBrdf& f = cellAt(x);
+  if (!stretch.isIdentity()) {
+    const Vec3 vi = stretch.toMap(wi), vo = stretch.toMap(wo);
+    if (shape_ == Base::kPlane && (vi.z() <= 0 || vo.z() <= 0)) return Rgb::Zero();
+    const Rgb projected = f.projected(wi, wo, stretch);
+    if ((projected == 0).all()) return projected;
+    // 1 / cos theta(vi) = |A^-1 wi| / cos theta_i: limited where the surface's own wi grazes, not
+    // where the mapped vi does (toward a sphere's poles most vi graze).
+    const double mapped_length = std::abs(wi.z()) / std::max(std::abs(vi.z()), 1e-300);
+    const double coarse_weight = stretch.facetWeightOnSurface(coarse_normal.normalized());
+    return scaling_(x, vi, vo) * (projected * (mapped_length / (MultiLobeBrdf::limitedCosine(wi.z()) * coarse_weight)));
+  }
   if (shape_ == Base::kPlane) {
     const Rgb f_low = f.eval(wi, wo);
     return (f_low == 0).all() ? f_low : Rgb(scaling_(x, wi, wo) * f_low);
@@ -35,10 +47,13 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo) const
 // facets tilt (a height field's micro-normals, so every mu_k, face up), and wherever a lobe's
 // <mu_k, wi> > 0 below the horizon it is also > 0 at wi's mirror image, which the mirrored draws
 // cover. Draws of a lobe that land below the horizon are not kept: pdf() leaves them out.
-BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const {
+BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u,
+                                    const TileStretch& stretch, const Vec3& coarse_normal) const {
   if (shape_ == Base::kPlane) {
     BrdfSample s = cellAt(x).sample(wo, u_lobe, u);
-    if (s.pdf > 0) s.weight *= scaling_(x, s.wi, wo);
+    if (s.pdf > 0)
+      s.weight = stretch.isIdentity() ? Rgb(s.weight * scaling_(x, s.wi, wo))
+                                      : Rgb(eval(x, s.wi, wo, stretch, coarse_normal) * (s.wi.z() / s.pdf));
     return s;
   }
   const bool below = u_lobe < kBelowHorizonShare;
@@ -47,7 +62,7 @@ BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lob
   if (!(s.pdf > 0) || !(s.wi.z() > 0)) return {};
   if (below) s.wi.z() = -s.wi.z();
   s.pdf *= below ? kBelowHorizonShare : 1 - kBelowHorizonShare;  // pdf(x, wo, s.wi): the mirror is exact
-  s.weight = eval(x, s.wi, wo) * (std::abs(s.wi.z()) / s.pdf);
+  s.weight = eval(x, s.wi, wo, stretch, coarse_normal) * (std::abs(s.wi.z()) / s.pdf);
   return s;
 }
 

@@ -31,10 +31,22 @@ class PrefilteredBrdf {
   // tilt (MultiLobeBrdf::projected over the limited cos theta_i of the horizon), and S is read at
   // the horizon. On a plane the map itself shadows and masks them. Only the lights' own light
   // counts there (render/volume_path_tracer.cpp, Vertex::reflectsBack; docs/displacement.md §8).
-  Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo) const;
-  // wi by f'_low's lobes, and on a curved base with probability kBelowHorizonShare such a draw
-  // mirrored below the horizon; weight = eval |cos theta_i| / pdf.
-  BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u) const;
+  //
+  // `stretch`: how the surface lays the tile out where x lies (surface/tile_stretch.h; a sphere's
+  // tiles narrow toward its poles), and `coarse_normal` the normal of h_low's facet there (base
+  // frame, either side). The model is then the map's at the mapped directions
+  // vi = stretch.toMap(wi), vo = stretch.toMap(wo), each fine lobe weighed and the coarse facet's
+  // weight divided out, as tile_stretch.h derives:
+  //   f_low = T(x) S(vi, vo) MultiLobeBrdf::projected(wi, wo, stretch) / cos theta(vi) / |A^T n_c|,
+  // 1 / cos theta(vi) = |A^-1 wi| / cos theta_i limited as MultiLobeBrdf limits 1 / cos theta_i.
+  // S and T were computed for the square tile: only f'_low's facets are weighed, and S and T read
+  // at the mapped directions keep what shadows and masks what (docs/displacement.md §8).
+  Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch = {},
+           const Vec3& coarse_normal = Vec3::UnitZ()) const;
+  // wi by f'_low's lobes (of the square tile whatever the stretch), and on a curved base with
+  // probability kBelowHorizonShare such a draw mirrored below the horizon; weight = eval |cos theta_i| / pdf.
+  BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u, const TileStretch& stretch = {},
+                    const Vec3& coarse_normal = Vec3::UnitZ()) const;
   double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
 
  private:

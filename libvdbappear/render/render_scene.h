@@ -34,18 +34,24 @@ struct PrefilteredPlacement {
   // Where world point p, the hit `hit` of this surface, lies on the map: the base position in [0,1)^2
   // of the tile under it, and the map's base frame (x, y, height) in world directions there (the
   // world's axes on the plane). On a plane or a sphere p alone says it; on a mesh the hit's triangle.
+  // On a sphere or a mesh, also how the tile there is stretched against the square of `size` that the
+  // map was prefiltered as (surface/tile_stretch.h): toward a sphere's poles, and wherever a mesh's
+  // UVs do not lay tiles out square and `size` wide.
   struct MapPoint {
     Point2 position;
     Frame frame;
+    TileStretch stretch;
   };
   MapPoint mapPoint(const Vec3& p, const SurfaceHit& hit = {}) const {
     if (mesh) {
       const MeshShell::MapPoint at = mesh->mapPoint(hit.primitive, hit.barycentric);
-      return {fractional(at.tile), at.frame};
+      TileStretch stretch;
+      stretch.m = at.tile_to_frame / size;
+      return {fractional(at.tile), at.frame, stretch};
     }
     const Point2 uv = shell ? shell->tileCoordinates(p) : Point2((p.x() - origin.x()) / size, (p.y() - origin.y()) / size);
-    if (!shell) return {fractional(uv), {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}};
-    return {fractional(uv), shell->frame(uv.x(), uv.y())};
+    if (!shell) return {fractional(uv), {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}, {}};
+    return {fractional(uv), shell->frame(uv.x(), uv.y()), shell->stretch(uv.y())};
   }
   static Point2 fractional(const Point2& tile) { return {tile.x() - std::floor(tile.x()), tile.y() - std::floor(tile.y())}; }
 };

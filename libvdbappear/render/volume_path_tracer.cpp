@@ -54,6 +54,7 @@ struct VolumePathTracer::Vertex {
   const PrefilteredBrdf* prefiltered = nullptr;
   Point2 map_x;
   Frame map_frame;  // the map's base frame at p (world axes on a plane, the tangent frame on a shell)
+  TileStretch map_stretch;  // how the surface lays the tile out there (surface/tile_stretch.h)
   int level = 0;  // the path's level of detail (render/level_of_detail.h)
 
   bool camera_view = false;  // reached by the camera ray, or by its mirror reflections
@@ -73,7 +74,7 @@ struct VolumePathTracer::Vertex {
     const double cos_o = std::max(0.0, normal.dot(wo));
     if (brdf) return brdf->eval(frame.toLocal(wi), frame.toLocal(wo)) * cos_o;  // f cos
     if (prefiltered)
-      return cos_o > 0 ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi)) * cos_o) : Rgb(Rgb::Zero());
+      return cos_o > 0 ? Rgb(prefiltered->eval(map_x, map_frame.toLocal(wo), map_frame.toLocal(wi), map_stretch, map_frame.toLocal(normal)) * cos_o) : Rgb(Rgb::Zero());
     return albedo * (cos_o / kPi);  // Lambertian f cos
   }
   // eval, and in a medium each lobe's term W_j f_j in per_lobe (for gradient images).
@@ -94,7 +95,7 @@ struct VolumePathTracer::Vertex {
       return {frame.toWorld(s.wi), s.pdf, s.weight};
     }
     if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
-      const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u);
+      const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u, map_stretch, map_frame.toLocal(normal));
       const Vec3 wo = map_frame.toWorld(s.wi);
       if (!(s.pdf > 0)) return {wo, 0, Rgb::Zero()};
       return {wo, s.pdf, eval(wo) / s.pdf};
@@ -292,6 +293,7 @@ PathSample VolumePathTracer::trace(Ray ray, RandomStream& rng, MediumLookup* loo
         const PrefilteredPlacement::MapPoint at = placement.mapPoint(vertex.p, *hit);
         vertex.map_x = at.position;
         vertex.map_frame = at.frame;
+        vertex.map_stretch = at.stretch;
         vertex.camera_view = mirror_reflectance > 0;
         if (!vertex.reflectsBack()) break;  // no light leaves toward a path from below the horizon
       }

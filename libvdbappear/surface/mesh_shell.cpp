@@ -122,7 +122,11 @@ MeshShell::MapPoint MeshShell::mapPoint(std::uint32_t primitive, const Point2& b
   const Vec3 s_unit = s.normalized();
   // Mirrored UVs turn the map over: its y then runs along -(n x s), and the frame is left-handed.
   const double handedness = dp_du.cross(dp_dv).dot(n) < 0 ? -1 : 1;
-  return {tileAt(t, b), {s_unit, handedness * n.cross(s_unit), n}};
+  const Frame frame{s_unit, handedness * n.cross(s_unit), n};
+  const Vec3 dp_dx = dp_du / tiles_x_, dp_dy = dp_dv / tiles_y_;  // per unit of tile coordinates
+  Eigen::Matrix2d tile_to_frame;
+  tile_to_frame << frame.s.dot(dp_dx), frame.s.dot(dp_dy), frame.t.dot(dp_dx), frame.t.dot(dp_dy);
+  return {tileAt(t, b), frame, tile_to_frame};
 }
 
 double MeshShell::meanTileWidth() const {

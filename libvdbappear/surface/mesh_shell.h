@@ -46,6 +46,9 @@ class MeshShell {
   struct MapPoint {
     Point2 tile;  // tile coordinates (tiles_x u, tiles_y v)
     Frame frame;  // s along increasing u, t along increasing v (made orthonormal), n the shading normal
+    // World length per unit of tile coordinates, in (s, t): column 0 along the tile's x, column 1
+    // along its y (the base triangle's UV gradient; the identity where it has none).
+    Eigen::Matrix2d tile_to_frame = Eigen::Matrix2d::Identity();
   };
   MapPoint mapPoint(std::uint32_t primitive, const Point2& barycentric) const;
 

@@ -41,6 +41,19 @@ Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
   return sum;
 }
 
+Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
+  if (stretch.isIdentity()) return projected(wi, wo);
+  const Vec3 vi = stretch.toMap(wi);
+  Rgb sum = Rgb::Zero();
+  for (const Lobe& l : lobes_) {
+    const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
+    if (cos_i <= 0) continue;
+    const Frame on_surface = Frame::fromNormal(stretch.normalOnSurface(l.frame.n));
+    sum += l.brdf.eval(on_surface.toLocal(wo), on_surface.toLocal(wi)) * (l.amplitude * cos_i * stretch.facetWeight(l.frame.n));
+  }
+  return sum;
+}
+
 Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
   if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
   return projected(wi, wo) / limitedCosine(wi.z());

@@ -16,6 +16,7 @@
 
 #include "libvdbappear/math/frame.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
+#include "libvdbappear/surface/tile_stretch.h"
 #include "libvdbappear/surface/vmf_ndf.h"
 
 #include <vector>
@@ -40,6 +41,11 @@ class MultiLobeBrdf {
   //   rho cos theta_i = sum_k alpha_k <mu_k, wi>+ f_k(R_mu_k(wi), R_mu_k(wo)),
   // the lobe choice and f_k's own sampling (wi anywhere f_k reaches), and that sampling's density.
   Rgb projected(const Vec3& wi, const Vec3& wo) const;
+  // The same over a tile that the surface stretches (surface/tile_stretch.h), wi and wo the
+  // surface's: each lobe's facets at <mu_k, vi> (vi = stretch.toMap(wi)) weighed by 1 / |A^-T mu_k|,
+  // and f_k about the stretched axis A^-T mu_k at wi and wo. Equal to projected(wi, wo) when the
+  // stretch is the identity.
+  Rgb projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const;
   BrdfSample sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const;  // weight not filled
   double lobePdf(const Vec3& wo, const Vec3& wi) const;
 

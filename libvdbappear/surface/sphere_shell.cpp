@@ -37,6 +37,11 @@ Frame SphereShell::frame(double u, double v) const {
   return {east, north, Vec3(a.sin_theta * a.cos_phi, a.sin_theta * a.sin_phi, a.cos_theta)};
 }
 
+TileStretch SphereShell::stretch(double v) const {
+  const double sin_theta = anglesOf(*this, 0, v).sin_theta;  // cos latitude
+  return TileStretch::diagonal(std::max(sin_theta, 1e-6), double(tiles_x) / (2 * tiles_y));
+}
+
 Point2 SphereShell::tileCoordinates(const Vec3& p) const {
   const Vec3 d = (p - centre).normalized();
   double phi = std::atan2(d.y(), d.x());

@@ -10,6 +10,7 @@
 #include "libvdbappear/math/frame.h"
 #include "libvdbappear/render/area_light.h"  // Triangle
 #include "libvdbappear/surface/height_field.h"
+#include "libvdbappear/surface/tile_stretch.h"
 
 #include <vector>
 
@@ -26,6 +27,10 @@ struct SphereShell {
   Vec3 normal(double u, double v) const;  // outward, unit
   // s east, t north, n outward (right-handed; at the poles east is the limit along the meridian u).
   Frame frame(double u, double v) const;
+  // How the tile at latitude v lies over the sphere, against a square tile as wide as the equator's
+  // (ofTiles's size): diag(cos latitude, tiles_x / (2 tiles_y)) in frame(u, v) (surface/tile_stretch.h).
+  // cos latitude is kept above 1e-6 at the poles.
+  TileStretch stretch(double v) const;
   Vec3 point(double u, double v, double height) const { return centre + (radius + height) * normal(u, v); }
   // The tile coordinates (u, v) of the point above or below p (the inverse of point's direction).
   Point2 tileCoordinates(const Vec3& p) const;

@@ -13,7 +13,9 @@
 //   f_eff'(wi, wo) = 1 / (cos theta_i cos theta_o) int f(m'; wi, wo) <m, vi> <m, vo> V / |A^-T m| dA,
 // vi = toMap(wi), vo = toMap(wo), cosines and V of the map at vi and vo, m' = normalOnSurface(m),
 // the base BRDF f at the stretched facet. Exact; tests/unit/tile_stretch_test.cpp checks it against
-// a map sampled stretched.
+// a map sampled stretched. The same holds for h_low: a coarse facet of normal m_c that the model
+// shades with f_low counts 1 / |A^-T m_c| as much once stretched, so a prefiltered model divides
+// f_low by that weight to stay the fine facets' sum (prefilter/prefiltered_brdf.h).
 
 #include "libvdbappear/math/vector.h"
 
@@ -48,6 +50,12 @@ struct TileStretch {
   Vec3 normalOnSurface(const Vec3& normal) const { return normalOnSurfaceUnnormalised(normal).normalized(); }
   // 1 / |A^-T m| for a unit m: how much less a facet counts on the surface than on the map.
   double facetWeight(const Vec3& normal) const { return 1 / normalOnSurfaceUnnormalised(normal).norm(); }
+  // The same weight from the facet's unit normal n on the surface: |A^T n| (A^T n / |A^T n| is the
+  // map's facet).
+  double facetWeightOnSurface(const Vec3& n) const {
+    const Eigen::Vector2d xy = m.transpose() * n.head<2>();
+    return Vec3(xy.x(), xy.y(), n.z()).norm();
+  }
 };
 
 }  // namespace vdbappear

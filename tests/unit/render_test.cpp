@@ -532,7 +532,7 @@ struct BumpyBall {
   double size = 2 * kPi / 16;
   HeightField map = test::sinusoidHeightField(32, size / 32, {16.0, 7.0}, 0.2 * size / 32, 5);
   MicrofacetBrdf base{MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb::Constant(0.3), Rgb::Constant(0.5)};
-  PrefilteredSurfaceFile file = prefilteredFile(map, base);
+  PrefilteredSurfaceFile file = prefilteredFile(map, base, ScalingKind::Shadowing, 9);
   PinholeCamera camera{{Vec3(0.3, -4, 0.8), Vec3::Zero(), Vec3(0, 0, 1), 36}, 24, 24};
 
   // Over the analytic sphere, or over a mesh of it with its UVs (`mesh`, an OBJ file).
@@ -584,13 +584,15 @@ TEST(Surfaces, ShellMappedPrefilteredMapIsLitBeyondItsTerminator) {
     }
   std::printf("beyond the terminator (%d pixels): original %.4f, prefiltered %.4f; all: %.4f, %.4f\n", beyond,
               original_beyond, model_beyond, original_all, model_all);
-  // Measured: original 1.040 of 21.83, prefiltered 0.750 of 28.88 (tables of N = 5 over 4 positions,
-  // whose model is 32% too bright in all; the ball of docs/displacement.md §9 at N = 15: +2.3% there).
+  // Measured (tables of N = 9 over 16 positions): original 1.040 of 21.83, prefiltered 0.606 of
+  // 19.84. With the tiles taken as square toward the poles (no surface/tile_stretch.h) 0.474 of
+  // 15.90, 27% too dark in all. At N = 5 over 4 positions the stretched model was 67% too bright in
+  // all (S read at the mapped directions, which graze toward the poles, beyond N = 5's last bins).
   EXPECT_GT(beyond, 40);
   EXPECT_GT(original_beyond, 0.03 * original_all);
   EXPECT_GT(model_beyond, 0.5 * original_beyond);
   EXPECT_LT(model_beyond, 1.5 * original_beyond);
-  EXPECT_NEAR(model_all, original_all, 0.5 * original_all);
+  EXPECT_NEAR(model_all, original_all, 0.15 * original_all);
 }
 
 // On the ball under a sun, a sky and a square light low beside it, light sampling alone, BRDF
