@@ -45,9 +45,7 @@ struct PrefilteredPlacement {
   MapPoint mapPoint(const Vec3& p, const SurfaceHit& hit = {}) const {
     if (mesh) {
       const MeshShell::MapPoint at = mesh->mapPoint(hit.primitive, hit.barycentric);
-      TileStretch stretch;
-      stretch.m = at.tile_to_frame / size;
-      return {fractional(at.tile), at.frame, stretch};
+      return {fractional(at.tile), at.frame, TileStretch(at.tile_to_frame / size)};
     }
     const Point2 uv = shell ? shell->tileCoordinates(p) : Point2((p.x() - origin.x()) / size, (p.y() - origin.y()) / size);
     if (!shell) return {fractional(uv), {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}, {}};

@@ -48,8 +48,10 @@ Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& 
   for (const Lobe& l : lobes_) {
     const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
     if (cos_i <= 0) continue;
-    const Frame on_surface = Frame::fromNormal(stretch.normalOnSurface(l.frame.n));
-    sum += l.brdf.eval(on_surface.toLocal(wo), on_surface.toLocal(wi)) * (l.amplitude * cos_i * stretch.facetWeight(l.frame.n));
+    const Vec3 axis = stretch.normalOnSurfaceUnnormalised(l.frame.n);  // |A^-T mu_k| = 1 / its weight
+    const double length = axis.norm();
+    const Frame on_surface = Frame::fromNormal(axis / length);
+    sum += l.brdf.eval(on_surface.toLocal(wo), on_surface.toLocal(wi)) * (l.amplitude * cos_i / length);
   }
   return sum;
 }

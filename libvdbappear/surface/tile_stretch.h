@@ -21,30 +21,28 @@
 
 namespace vdbappear {
 
-struct TileStretch {
-  Eigen::Matrix2d m = Eigen::Matrix2d::Identity();  // the map's (x, y) to the surface's, per unit
+class TileStretch {
+ public:
+  TileStretch() = default;  // the identity: a square tile of the map's own size
+  // m: the map's (x, y) to the surface's, per unit; invertible.
+  explicit TileStretch(const Eigen::Matrix2d& m) : m_(m), identity_(m == Eigen::Matrix2d::Identity()) {
+    inverse_ << m(1, 1), -m(0, 1), -m(1, 0), m(0, 0);
+    inverse_ /= m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
+  }
+  static TileStretch diagonal(double x, double y) { return TileStretch((Eigen::Matrix2d() << x, 0, 0, y).finished()); }
 
-  static TileStretch diagonal(double x, double y) {
-    TileStretch s;
-    s.m << x, 0, 0, y;
-    return s;
-  }
-  bool isIdentity() const { return m == Eigen::Matrix2d::Identity(); }
-  Eigen::Matrix2d inverse() const {
-    Eigen::Matrix2d inv;
-    inv << m(1, 1), -m(0, 1), -m(1, 0), m(0, 0);
-    return inv / (m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0));
-  }
+  const Eigen::Matrix2d& matrix() const { return m_; }
+  bool isIdentity() const { return identity_; }
 
   // A^-1 w normalised: the direction over the map that sees what w sees over the surface.
   Vec3 toMap(const Vec3& w) const {
-    const Eigen::Vector2d xy = inverse() * w.head<2>();
+    const Eigen::Vector2d xy = inverse_ * w.head<2>();
     return Vec3(xy.x(), xy.y(), w.z()).normalized();
   }
   // A^-T m, the map's micro-normal m as it stands on the surface, unnormalised: its length is
   // 1 / facetWeight(m).
   Vec3 normalOnSurfaceUnnormalised(const Vec3& normal) const {
-    const Eigen::Vector2d xy = inverse().transpose() * normal.head<2>();
+    const Eigen::Vector2d xy = inverse_.transpose() * normal.head<2>();
     return Vec3(xy.x(), xy.y(), normal.z());
   }
   Vec3 normalOnSurface(const Vec3& normal) const { return normalOnSurfaceUnnormalised(normal).normalized(); }
@@ -53,9 +51,13 @@ struct TileStretch {
   // The same weight from the facet's unit normal n on the surface: |A^T n| (A^T n / |A^T n| is the
   // map's facet).
   double facetWeightOnSurface(const Vec3& n) const {
-    const Eigen::Vector2d xy = m.transpose() * n.head<2>();
+    const Eigen::Vector2d xy = m_.transpose() * n.head<2>();
     return Vec3(xy.x(), xy.y(), n.z()).norm();
   }
+
+ private:
+  Eigen::Matrix2d m_ = Eigen::Matrix2d::Identity(), inverse_ = Eigen::Matrix2d::Identity();
+  bool identity_ = true;
 };
 
 }  // namespace vdbappear

@@ -44,11 +44,13 @@ TEST(TileStretch, MapsDirectionsAndNormalsByTheAffineMap) {
   EXPECT_NEAR(stretch.facetWeight(Vec3::UnitZ()), 1, 1e-15);   // a flat facet: area and shading both det A
   EXPECT_NEAR(stretch.facetWeight(Vec3::UnitX()), 0.5, 1e-15);  // a wall facing x keeps its area
   // The shear of a mesh's UVs: a normal stays normal to the stretched plane.
-  TileStretch shear;
-  shear.m << 1.2, 0.4, 0.1, 0.8;
+  const TileStretch shear((Eigen::Matrix2d() << 1.2, 0.4, 0.1, 0.8).finished());
   const Vec3 n = Vec3(0.3, -0.2, 1).normalized(), a = Vec3(1, 0, -0.3), b = Vec3(0, 1, 0.2);  // n . a = n . b = 0
   const Vec3 n_on = shear.normalOnSurface(n);
-  auto onSurface = [&](const Vec3& t) { return Vec3((shear.m * t.head<2>()).x(), (shear.m * t.head<2>()).y(), t.z()); };
+  auto onSurface = [&](const Vec3& t) {
+    const Eigen::Vector2d xy = shear.matrix() * t.head<2>();
+    return Vec3(xy.x(), xy.y(), t.z());
+  };
   EXPECT_NEAR(n_on.dot(onSurface(a)), 0, 1e-15);
   EXPECT_NEAR(n_on.dot(onSurface(b)), 0, 1e-15);
 }
