@@ -3,8 +3,7 @@
 
 For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
 "ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
-Fig. 4.18; "torus", not a default: the bumps map at --torus-cells^2 cells over a torus mesh by its
-UVs) and each downsampling factor of --factors:
+Fig. 4.18; "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs) and each downsampling factor of --factors:
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
    light) and with the interreflection scaling R_ir (Eq. 4.20, for global illumination); its report
    gives the seconds of each step and the bytes of each part (Table 4.3-4.4).
@@ -40,7 +39,7 @@ UVs) and each downsampling factor of --factors:
    Table 4.3: its bumps map at 1K^2 over 4^2 tiles, prefiltered at 16x).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
-        [--factors 8,32] [--surfaces woven,noise,relief,ball] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
+        [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-res 128x96] [--no-study]
@@ -92,7 +91,7 @@ GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": 
 BALL = {"map": "bumps", "placement": {"sphere": [0, 0, 0], "tiles": [8, 4]},
         "camera": {"position": [0.8, -4.2, 1.6], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
 BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
-# A general mesh (surface/mesh_shell.h; not in the default --surfaces): the bumps map over a torus
+# A general mesh (surface/mesh_shell.h): the bumps map over a torus
 # of 96 x 48 quads by its UVs, 18 tiles around the ring and 7 around the tube, about 1 wide each
 # (0.72 on the inner equator, 1.28 on the outer): curvature of both signs, tiles stretched and seams
 # both ways. Its map has --torus-cells^2 cells (128: 8.9 M triangles over the mesh at full resolution).
@@ -482,7 +481,7 @@ def main():
     parser.add_argument("--out", default="displacement-out")
     parser.add_argument("--cells", type=int, default=1024)
     parser.add_argument("--factors", default="8,32")
-    parser.add_argument("--surfaces", default="woven,noise,relief,ball",
+    parser.add_argument("--surfaces", default="woven,noise,relief,ball,torus",
                         help="of woven, noise, relief, ball (bumps over a sphere) and torus (bumps over a mesh)")
     parser.add_argument("--rates", choices=sorted(RATES), default="n15",
                         help="n15 (the default since 2026-11-28: every planar model within 0.9%%, sections 1-2 in "
@@ -495,7 +494,7 @@ def main():
     parser.add_argument("--lod-spp", default="16,64,256", help="section 4's budgets; empty: no section 4")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=256)
-    parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\", not a default)")
+    parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
     parser.add_argument("--scale-spp-ref", type=int, default=2048)
