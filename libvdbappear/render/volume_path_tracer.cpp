@@ -94,11 +94,11 @@ struct VolumePathTracer::Vertex {
       const BrdfSample s = brdf->sample(frame.toLocal(wi), u_lobe, u);
       return {frame.toWorld(s.wi), s.pdf, s.weight};
     }
-    if (prefiltered) {  // f'_low's sampling; the weight with T S and the coarse surface's cosine
+    if (prefiltered) {  // f'_low's sampling; its weight f_low |cos theta_i| / pdf moved to the coarse surface's cosine
       const BrdfSample s = prefiltered->sample(map_x, map_frame.toLocal(wi), u_lobe, u, map_stretch, map_frame.toLocal(normal));
       const Vec3 wo = map_frame.toWorld(s.wi);
       if (!(s.pdf > 0)) return {wo, 0, Rgb::Zero()};
-      return {wo, s.pdf, eval(wo) / s.pdf};
+      return {wo, s.pdf, s.weight * (std::max(0.0, normal.dot(wo)) / std::abs(s.wi.z()))};
     }
     const Vec3 wo = Frame::fromNormal(normal).toWorld(sampleCosineHemisphere(u));
     const double pdf = cosineHemispherePdf(normal.dot(wo));
