@@ -66,9 +66,10 @@ TEST(TileStretch, SqueezedMapsEffectiveBrdfIsTheMapsAtMappedDirections) {
   EffectiveBrdfSettings settings;
   settings.samples_per_side = 300;
   const PatchBrdf on_surface = microfacetPatchBrdf(base);
-  for (const auto& [wi, wo] : {std::pair{directionFromDegrees(50, 0), directionFromDegrees(40, 160)},
-                               std::pair{directionFromDegrees(60, 150), directionFromDegrees(65, 0)},
-                               std::pair{directionFromDegrees(35, 90), directionFromDegrees(55, 200)}}) {
+  for (const auto& directions : {std::pair{directionFromDegrees(50, 0), directionFromDegrees(40, 160)},
+                                 std::pair{directionFromDegrees(60, 150), directionFromDegrees(65, 0)},
+                                 std::pair{directionFromDegrees(35, 90), directionFromDegrees(55, 200)}}) {
+    const Vec3 wi = directions.first, wo = directions.second;
     const Vec3 vi = stretch.toMap(wi), vo = stretch.toMap(wo);
     const PatchBrdf weighted = [&](const Vec3&, const Vec3& m, const Vec3&, const Vec3&) {
       const Frame frame = Frame::fromNormal(stretch.normalOnSurface(m));
@@ -127,9 +128,10 @@ TEST(TileStretch, PrefilteredModelOfASqueezedTileIsAsCloseAsOfTheSquare) {
   EffectiveBrdfSettings positions;
   positions.samples_per_side = 200;
   const auto mapPosition = [](const Vec3& x, double squeeze) { return Point2(x.x() / squeeze / 3, x.y() / 3); };
-  for (const auto& [wi, wo] : {std::pair{directionFromDegrees(50, 0), directionFromDegrees(40, 160)},
-                               std::pair{directionFromDegrees(60, 150), directionFromDegrees(45, 0)},
-                               std::pair{directionFromDegrees(35, 90), directionFromDegrees(55, 200)}}) {
+  for (const auto& directions : {std::pair{directionFromDegrees(50, 0), directionFromDegrees(40, 160)},
+                                 std::pair{directionFromDegrees(60, 150), directionFromDegrees(45, 0)},
+                                 std::pair{directionFromDegrees(35, 90), directionFromDegrees(55, 200)}}) {
+    const Vec3 wi = directions.first, wo = directions.second;
     const Vec3 vi = stretch.toMap(wi), vo = stretch.toMap(wo);
     const PatchBrdf square_model = [&](const Vec3& x, const Vec3&, const Vec3& i, const Vec3& o) {
       return model.eval(mapPosition(x, 1), i, o);
