@@ -124,6 +124,37 @@ TEST(MeshShell, MirroredUvsTurnTheFrame) {
   EXPECT_NEAR((at.frame.n - Vec3::UnitZ()).norm(), 0, 1e-12);
 }
 
+// tile_to_frame is the UV Jacobian in the hit's frame: over a flat, tilted triangle whose UVs are
+// sheared and stretched (and, mirrored, turned over), the step between two points of a displaced
+// triangle, in (s, t), is tile_to_frame times their step in tile coordinates, and lies in the plane.
+// This is the M of the prefiltered model's TileStretch on a mesh (render/render_scene.h), where a
+// transposed or inverted matrix would read S at wrong directions.
+TEST(MeshShell, TileToFrameIsTheUvJacobian) {
+  for (const bool mirrored : {false, true}) {
+    UvTriangle base;
+    base.position = {Vec3(0, 0, 0), Vec3(2, 0.5, 0.3), Vec3(0.4, 1.5, -0.2)};
+    const Vec3 n = (base.position[1] - base.position[0]).cross(base.position[2] - base.position[0]).normalized();
+    base.normal = {n, n, n};
+    base.uv = {Point2(0.1, 0.2), Point2(0.9, 0.3), Point2(0.6, 0.8)};
+    if (mirrored)
+      for (Point2& uv : base.uv) uv.y() = 1 - uv.y();
+    MeshShell shell({base}, 3, 2);
+    const std::vector<Triangle> triangles = shell.displace(HeightField(4, 4, 0.25), 1);
+    test::TestRandom random(7);
+    for (int k = 0; k < 50; ++k) {
+      const auto p = std::uint32_t(random.uniform() * triangles.size());
+      const Point2 b(0.2 + 0.2 * random.uniform(), 0.1 + 0.2 * random.uniform()), c(0.1 + 0.3 * random.uniform(), 0.4 + 0.2 * random.uniform());
+      const MeshShell::MapPoint at = shell.mapPoint(p, b), other = shell.mapPoint(p, c);
+      const Vec3 step = pointOf(triangles[p], c) - pointOf(triangles[p], b);
+      const Eigen::Vector2d in_frame(at.frame.s.dot(step), at.frame.t.dot(step));
+      const Eigen::Vector2d predicted = at.tile_to_frame * Eigen::Vector2d(other.tile.x() - at.tile.x(), other.tile.y() - at.tile.y());
+      EXPECT_NEAR((in_frame - predicted).norm(), 0, 1e-12 * step.norm()) << "mirrored " << mirrored << ", triangle " << p;
+      EXPECT_NEAR(at.frame.n.dot(step), 0, 1e-12 * step.norm());
+      EXPECT_GT(std::abs(at.tile_to_frame(0, 1)), 0.1);  // sheared: a diagonal M would not test the order
+    }
+  }
+}
+
 // A file's UVs are read as written; where it has no normals, smooth ones are made, across its UV
 // seams too (vertices at one position share their normal, so the map opens no crack there).
 TEST(MeshShell, ReadsUvsAndMakesSmoothNormalsWhereTheFileHasNone) {
