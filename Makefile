@@ -117,8 +117,9 @@ subsurface: build
 	@scripts/subsurface_experiment.py --build $(BUILD_DIR)
 
 # Displacement-map prefiltering (issue 23): reference, naive, multi-lobe and full models of three
-# procedural surfaces and a ball at two scales, under direct light and global illumination; equal
-# time; storage. At the n15 rates (the default) the tables take most of two hours on 2 cores.
+# procedural surfaces, a ball and a torus at two scales and at each one's scale in the chapter
+# (Table 4.3), under direct light and global illumination; equal time; storage. At the n15 rates
+# (the default) the tables take most of two and a half hours on 2 cores.
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR)
 

@@ -3,7 +3,9 @@
 
 For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
 "ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
-Fig. 4.18; "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs) and each downsampling factor of --factors:
+Fig. 4.18; "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs), each
+downsampling factor of --factors and the surface's own scale in the chapter (Table 4.3: woven 8x as
+the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-chapter-scales):
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
    light) and with the interreflection scaling R_ir (Eq. 4.20, for global illumination); its report
    gives the seconds of each step and the bytes of each part (Table 4.3-4.4).
@@ -42,7 +44,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
-        [--ball-scale-cells 512] [--ball-scale-res 128x96] [--no-study]
+        [--ball-scale-cells 512] [--ball-scale-res 128x96] [--no-study] [--no-chapter-scales]
 """
 import argparse
 import json
@@ -99,6 +101,9 @@ TORUS = {"map": "bumps", "ring": 1 / 0.35, "tube": 0.4 / 0.35, "quads": (96, 48)
          "placement": {"mesh": "torus.obj", "tiles": [18, 7]},
          "camera": {"position": [1.43, -9.14, 5.71], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
 CURVED = {"ball": BALL, "torus": TORUS}
+# Each surface's scale in the chapter (Table 4.3: twill 8x, bump 16x, noise 64x, relief 16x; the
+# torus carries the bump map), studied in sections 1-2 besides --factors unless --no-chapter-scales.
+CHAPTER_SCALES = {"woven": 8, "ball": 16, "noise": 64, "relief": 16, "torus": 16}
 
 
 def map_kind(surface):
@@ -233,6 +238,16 @@ def ball_regions(args, out, lighting, reference, images, reference_mean):
         region["share"] = c["mean_reference"] * pixels / whole  # the reference's, the same in every compare
         regions.append(region)
     return regions
+
+
+def study_factors(args, surface):
+    """Sections 1-2's factors for this surface: --factors and, unless --no-chapter-scales, its scale in
+    the chapter (CHAPTER_SCALES) where its map's cells allow it."""
+    factors = {int(f) for f in args.factors.split(",")}
+    chapter = CHAPTER_SCALES.get(surface)
+    if not args.no_chapter_scales and chapter and map_cells(args, surface) % chapter == 0:
+        factors.add(chapter)
+    return sorted(factors)
 
 
 def study(args, out, surface, factor, rows, timing_rows):
@@ -373,17 +388,19 @@ def ball_at_scale(args, out, scale_rows, timing_rows):
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
-             f" --lighting {args.lighting} --surfaces {args.surfaces}"
+             f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine.", "",
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
                                    f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4), not the chapter's."), "",
              "## Mean intensity against the full-resolution reference", "",
-             "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3.", "",
+             "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
+             "surface's scale in Table 4.3 (twill 8x, bump 16x, noise 64x, relief 16x; the torus carries the bump map).", "",
              "| surface | factor | light | naive | multi-lobe | full | gate |", "|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {r['multi-lobe']:+.2%} |"
+        chapter = " (the chapter's)" if CHAPTER_SCALES.get(r["surface"]) == r["factor"] else ""
+        lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {r['naive']:+.2%} | {r['multi-lobe']:+.2%} |"
                      f" {r['full']:+.2%} | {'pass' if r['passed'] else 'fail'} |")
     ball_rows = [r for r in rows if "regions" in r]
     if ball_rows:
@@ -502,6 +519,9 @@ def main():
                         help="of the ball's map in section 5 (0: the ball is left out of it)")
     parser.add_argument("--ball-scale-res", default="128x96", help="of the ball's images in section 5")
     parser.add_argument("--no-study", action="store_true", help="leave out sections 1-3 (to run sections 4-5 alone)")
+    parser.add_argument("--no-chapter-scales", action="store_true",
+                        help="sections 1-3 at --factors only, not also at each surface's scale in the chapter "
+                             "(Table 4.3: woven 8x, ball and torus 16x, noise 64x, relief 16x)")
     args = parser.parse_args()
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
@@ -515,7 +535,7 @@ def main():
              "-o", out / f"{surface}.exr"])
         if surface == "torus":
             write_torus(out / TORUS["placement"]["mesh"])
-        for factor in [] if args.no_study else [int(f) for f in args.factors.split(",")]:
+        for factor in [] if args.no_study else study_factors(args, surface):
             study(args, out, surface, factor, rows, timing_rows)
         if surface not in CURVED:  # sections 4-5 view tiles on a plane, where they are instances
             if args.lod_spp:
