@@ -104,6 +104,7 @@ CURVED = {"ball": BALL, "torus": TORUS}
 # Each surface's scale in the chapter (Table 4.3: twill 8x, bump 16x, noise 64x, relief 16x; the
 # torus carries the bump map), studied in sections 1-2 besides --factors unless --no-chapter-scales.
 CHAPTER_SCALES = {"woven": 8, "ball": 16, "noise": 64, "relief": 16, "torus": 16}
+CHAPTER_SCALES_TEXT = ", ".join(f"{surface} {factor}x" for surface, factor in CHAPTER_SCALES.items())
 
 
 def map_kind(surface):
@@ -396,7 +397,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                                    f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4), not the chapter's."), "",
              "## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
-             "surface's scale in Table 4.3 (twill 8x, bump 16x, noise 64x, relief 16x; the torus carries the bump map).", "",
+             f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
+             "torus as the bump).", "",
              "| surface | factor | light | naive | multi-lobe | full | gate |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         chapter = " (the chapter's)" if CHAPTER_SCALES.get(r["surface"]) == r["factor"] else ""
@@ -521,7 +523,7 @@ def main():
     parser.add_argument("--no-study", action="store_true", help="leave out sections 1-3 (to run sections 4-5 alone)")
     parser.add_argument("--no-chapter-scales", action="store_true",
                         help="sections 1-3 at --factors only, not also at each surface's scale in the chapter "
-                             "(Table 4.3: woven 8x, ball and torus 16x, noise 64x, relief 16x)")
+                             f"(Table 4.3: {CHAPTER_SCALES_TEXT})")
     args = parser.parse_args()
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
