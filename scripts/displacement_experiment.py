@@ -17,9 +17,10 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
      multi-lobe h_low with f'_low alone (the scaling left out),
      full       h_low with f_low = T S f'_low,
    side by side with false-colour error maps (Fig. 4.16-4.17). The gate: the full model's relative
-   error in mean intensity is at most one third of naive's and at most 3%. On the ball, the error
-   split by region of its base sphere: beyond the terminator, under a grazing sun, under a high sun,
-   past the silhouette (sphere_regions.py).
+   error in mean intensity is at most one third of naive's and at most 3%. On the ball and the torus,
+   the error split by region of the base surface: beyond the terminator (on the torus, or in its own
+   shadow), under a grazing sun, under a high sun (on the torus, each on its outer, convex half and
+   its inner, saddle half), past the silhouette (sphere_regions.py, torus_regions.py).
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
@@ -54,6 +55,7 @@ import subprocess
 import time
 
 import sphere_regions
+import torus_regions
 
 BRDF = {"distribution": "ggx", "roughness": 0.3, "specular": 0.04, "diffuse": [0.7, 0.55, 0.4]}
 # The chapter's sampling rates are the tool's defaults; the experiment's default is "n15" (every planar
@@ -218,17 +220,26 @@ def compare(build, reference, test, error_map=None, mask=None):
     return json.loads(run(cmd))
 
 
-def ball_regions(args, out, lighting, reference, images, reference_mean):
-    """The ball's error by region of its base sphere (sphere_regions.py): per region its pixels, its
-    share of the reference's light, and per model the relative error there (None where the reference
-    is black) and its part of the image mean's relative error (the parts add up to it). The regions
-    follow SUN, which both lightings hold."""
+def region_masks(args, out, surface, lighting):
+    """The masks of a curved surface's regions: the ball's by sphere_regions.py, the torus's by
+    torus_regions.py; [(name, path, pixel count)]. The regions follow SUN, which both lightings hold."""
     width, height = [int(v) for v in args.res.split("x")]
-    masks = sphere_regions.region_masks(out, f"ball_{lighting}", BALL["camera"], BALL["placement"]["sphere"],
-                                        BALL_RADIUS, SUN["direction"], width, height)
+    camera, tag = CURVED[surface]["camera"], f"{surface}_{lighting}"
+    if surface == "ball":
+        return sphere_regions.region_masks(out, tag, camera, BALL["placement"]["sphere"], BALL_RADIUS,
+                                           SUN["direction"], width, height)
+    return torus_regions.region_masks(out, tag, camera, [0, 0, 0], TORUS["ring"], TORUS["tube"], SUN["direction"],
+                                      width, height)
+
+
+def curved_regions(args, out, surface, lighting, reference, images, reference_mean):
+    """A curved surface's error by region of its base surface (region_masks): per region its pixels,
+    its share of the reference's light, and per model the relative error there (None where the
+    reference is black) and its part of the image mean's relative error (the parts add up to it)."""
+    width, height = [int(v) for v in args.res.split("x")]
     whole = reference_mean * width * height
     regions = []
-    for name, mask, pixels in masks:
+    for name, mask, pixels in region_masks(args, out, surface, lighting):
         if pixels == 0 or whole <= 0:
             continue
         region = {"region": name, "pixels": pixels}
@@ -271,8 +282,8 @@ def study(args, out, surface, factor, rows, timing_rows):
                                       res, spp=args.spp, camera=camera)
             c = compare(args.build, reference, images[model], out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
-        if surface == "ball":
-            row["regions"] = ball_regions(args, out, lighting, reference, images, c["mean_reference"])
+        if surface in CURVED:
+            row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
         naive, full = abs(row["naive"]), abs(row["full"])
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
@@ -404,17 +415,21 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         chapter = " (the chapter's)" if CHAPTER_SCALES.get(r["surface"]) == r["factor"] else ""
         lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {r['naive']:+.2%} | {r['multi-lobe']:+.2%} |"
                      f" {r['full']:+.2%} | {'pass' if r['passed'] else 'fail'} |")
-    ball_rows = [r for r in rows if "regions" in r]
-    if ball_rows:
-        lines += ["", "## The ball's error by region", "",
-                  "Pixels by where their camera ray meets the base sphere (scripts/sphere_regions.py): by the cosine "
-                  "between its normal there and the sun, or past its silhouette (the bumps' rim). Per region: its share "
-                  "of the reference's light; per model the relative error of the region's mean, and in parentheses "
-                  "its part of the image mean's relative error (the parts add up to the table above).", "",
-                  "| factor | light | region | pixels | share | naive | multi-lobe | full |", "|---|---|---|---|---|---|---|---|"]
-        for r in ball_rows:
+    curved_rows = [r for r in rows if "regions" in r]
+    if curved_rows:
+        lines += ["", "## The curved surfaces' error by region", "",
+                  "Pixels by where their camera ray meets the base surface (the ball's sphere: "
+                  "scripts/sphere_regions.py; the torus: scripts/torus_regions.py, its outer half convex, its inner "
+                  "half a saddle): by the cosine between its normal there and the sun, in shadow, or past its "
+                  "silhouette (the bumps' rim). Per region: its share of the reference's light; per model the relative "
+                  "error of the region's mean, and in parentheses its part of the image mean's relative error (the "
+                  "parts add up to the table above).", "",
+                  "| surface | factor | light | region | pixels | share | naive | multi-lobe | full |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for r in curved_rows:
             for g in r["regions"]:
-                lines.append(f"| {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | {g['share']:.1%} | " +
+                lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | "
+                             f"{g['share']:.1%} | " +
                              " | ".join(("n/a" if g[m]["error"] is None else f"{g[m]['error']:+.1%}") +
                                         f" ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
                              + " |")
