@@ -1,7 +1,9 @@
 """The pixels of vdb_render's pinhole camera (render/camera.cpp: vertical field of view, pixel (x, y)
 from the top left, rays through the pixels' centres) and masks of them, for the experiments that
-split an image's error by what its pixels see (modularity_experiment.py, sphere_regions.py)."""
+split an image's error by what its pixels see (modularity_experiment.py, sphere_regions.py,
+torus_regions.py)."""
 import math
+import pathlib
 import struct
 
 
@@ -35,3 +37,25 @@ def write_mask_pfm(path, width, height, pixels):
             for x in range(width):
                 v = 1.0 if (x, y) in pixels else 0.0
                 f.write(struct.pack("<3f", v, v, v))
+
+
+def region_masks(out, tag, camera, names, width, height, region_of):
+    """Sorts the camera's pixels into the regions `names` by region_of(origin, unit direction) (an index
+    into names) of their centre rays; writes out/{tag}_region{k}.pfm for each; returns
+    [(name, path, pixel count)]."""
+    pixels = [set() for _ in names]
+    for x, y, origin, d in pixel_rays(camera["position"], camera["target"], camera["up"], camera["fov"], width,
+                                      height):
+        pixels[region_of(origin, d)].add((x, y))
+    regions = []
+    for k, name in enumerate(names):
+        path = pathlib.Path(out) / f"{tag}_region{k}.pfm"
+        write_mask_pfm(path, width, height, pixels[k])
+        regions.append((name, path, len(pixels[k])))
+    return regions
+
+
+def toward(travel):
+    """The unit vector against a light's direction of travel: toward the light."""
+    n = math.sqrt(sum(x * x for x in travel))
+    return [-x / n for x in travel]

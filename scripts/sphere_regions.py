@@ -3,7 +3,6 @@ beyond its terminator, under a grazing sun, under a high sun, and of those that 
 displaced shell shows past the base sphere's silhouette). Used by displacement_experiment.py to
 split the ball's error (docs/displacement.md §9)."""
 import math
-import pathlib
 
 import pinhole_pixels
 
@@ -25,16 +24,8 @@ def _region(offset, d, radius, toward_sun):
 
 def region_masks(out, tag, camera, centre, radius, sun_travel, width, height):
     """Writes out/{tag}_region{k}.pfm for each region; returns [(name, path, pixel count)]."""
-    toward_sun = [-x for x in sun_travel]
-    toward_sun = [x / math.sqrt(sum(v * v for v in toward_sun)) for x in toward_sun]
+    toward_sun = pinhole_pixels.toward(sun_travel)
     names = [b[0] for b in SUN_BANDS] + [SILHOUETTE]
-    pixels = [set() for _ in names]
-    for x, y, origin, d in pinhole_pixels.pixel_rays(camera["position"], camera["target"], camera["up"],
-                                                     camera["fov"], width, height):
-        pixels[_region([o - c for o, c in zip(origin, centre)], d, radius, toward_sun)].add((x, y))
-    regions = []
-    for k, name in enumerate(names):
-        path = pathlib.Path(out) / f"{tag}_region{k}.pfm"
-        pinhole_pixels.write_mask_pfm(path, width, height, pixels[k])
-        regions.append((name, path, len(pixels[k])))
-    return regions
+    return pinhole_pixels.region_masks(
+        out, tag, camera, names, width, height,
+        lambda origin, d: _region([o - c for o, c in zip(origin, centre)], d, radius, toward_sun))

@@ -9,7 +9,6 @@ The base torus is the analytic one (ring radius R around the z axis through `cen
 r), found by sphere tracing its distance function; the experiment's mesh of 96 x 48 quads departs
 from it by under 0.3% of the tube's radius."""
 import math
-import pathlib
 
 import pinhole_pixels
 from sphere_regions import SILHOUETTE, SUN_BANDS
@@ -67,16 +66,7 @@ def _region(offset, d, ring, tube, toward_sun):
 
 def region_masks(out, tag, camera, centre, ring, tube, sun_travel, width, height):
     """Writes out/{tag}_region{k}.pfm for each of REGIONS; returns [(name, path, pixel count)]."""
-    toward_sun = [-x for x in sun_travel]
-    toward_sun = [x / math.sqrt(sum(v * v for v in toward_sun)) for x in toward_sun]
-    pixels = [set() for _ in REGIONS]
-    for x, y, origin, d in pinhole_pixels.pixel_rays(camera["position"], camera["target"], camera["up"],
-                                                     camera["fov"], width, height):
-        offset = [o - c for o, c in zip(origin, centre)]
-        pixels[_region(offset, d, ring, tube, toward_sun)].add((x, y))
-    regions = []
-    for k, name in enumerate(REGIONS):
-        path = pathlib.Path(out) / f"{tag}_region{k}.pfm"
-        pinhole_pixels.write_mask_pfm(path, width, height, pixels[k])
-        regions.append((name, path, len(pixels[k])))
-    return regions
+    toward_sun = pinhole_pixels.toward(sun_travel)
+    return pinhole_pixels.region_masks(
+        out, tag, camera, REGIONS, width, height,
+        lambda origin, d: _region([o - c for o, c in zip(origin, centre)], d, ring, tube, toward_sun))
