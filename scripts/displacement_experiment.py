@@ -311,8 +311,8 @@ def peak_memory_mb(out, name):
 def level_of_detail(args, out, surface, lod_rows):
     """Section 4: the mipmap against the original at equal render time, over a grazing tiled view."""
     res = [int(v) for v in args.res.split("x")]
-    factors = [int(f) for f in args.factors.split(",")]
-    levels = [f"{surface}_{f}x_interreflection.json" for f in factors]
+    # The R_ir models of sections 1-2 (made here when --no-study left them out; reused otherwise).
+    levels = [prefilter(args, out, surface, int(f), "interreflection")[0].name for f in args.factors.split(",")]
     fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
               "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
