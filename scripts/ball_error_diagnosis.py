@@ -62,7 +62,7 @@ def _fields(manifest, placement):
 
 
 def _toward_sun():
-    return _normalized([-x for x in experiment.SUN["direction"]])
+    return pinhole_pixels.toward(experiment.SUN["direction"])
 
 
 def by_latitude(args, out, factor):

@@ -39,14 +39,14 @@ def write_mask_pfm(path, width, height, pixels):
                 f.write(struct.pack("<3f", v, v, v))
 
 
-def region_masks(out, tag, camera, names, width, height, region_of):
-    """Sorts the camera's pixels into the regions `names` by region_of(origin, unit direction) (an index
-    into names) of their centre rays; writes out/{tag}_region{k}.pfm for each; returns
-    [(name, path, pixel count)]."""
+def region_masks(out, tag, camera, centre, names, width, height, region_of):
+    """Sorts the camera's pixels into the regions `names` by region_of(origin relative to `centre`, unit
+    direction) (an index into names) of their centre rays; writes out/{tag}_region{k}.pfm for each;
+    returns [(name, path, pixel count)]."""
     pixels = [set() for _ in names]
     for x, y, origin, d in pixel_rays(camera["position"], camera["target"], camera["up"], camera["fov"], width,
                                       height):
-        pixels[region_of(origin, d)].add((x, y))
+        pixels[region_of([o - c for o, c in zip(origin, centre)], d)].add((x, y))
     regions = []
     for k, name in enumerate(names):
         path = pathlib.Path(out) / f"{tag}_region{k}.pfm"
@@ -57,5 +57,4 @@ def region_masks(out, tag, camera, names, width, height, region_of):
 
 def toward(travel):
     """The unit vector against a light's direction of travel: toward the light."""
-    n = math.sqrt(sum(x * x for x in travel))
-    return [-x / n for x in travel]
+    return _normalized([-x for x in travel])

@@ -27,5 +27,5 @@ def region_masks(out, tag, camera, centre, radius, sun_travel, width, height):
     toward_sun = pinhole_pixels.toward(sun_travel)
     names = [b[0] for b in SUN_BANDS] + [SILHOUETTE]
     return pinhole_pixels.region_masks(
-        out, tag, camera, names, width, height,
-        lambda origin, d: _region([o - c for o, c in zip(origin, centre)], d, radius, toward_sun))
+        out, tag, camera, centre, names, width, height,
+        lambda offset, d: _region(offset, d, radius, toward_sun))

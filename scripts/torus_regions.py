@@ -68,5 +68,5 @@ def region_masks(out, tag, camera, centre, ring, tube, sun_travel, width, height
     """Writes out/{tag}_region{k}.pfm for each of REGIONS; returns [(name, path, pixel count)]."""
     toward_sun = pinhole_pixels.toward(sun_travel)
     return pinhole_pixels.region_masks(
-        out, tag, camera, REGIONS, width, height,
-        lambda origin, d: _region([o - c for o, c in zip(origin, centre)], d, ring, tube, toward_sun))
+        out, tag, camera, centre, REGIONS, width, height,
+        lambda offset, d: _region(offset, d, ring, tube, toward_sun))
