@@ -411,10 +411,10 @@ std::vector<Triangle> groundPlane(double height, const Aabb& around) {
 
 // A diffuse surface, or a glossy one with its BRDF appended to the scene's.
 void addOpaque(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::optional<MicrofacetBrdf>& brdf,
-               RenderScene* scene, const std::vector<Vec3>& copies = {}) {
-  if (!brdf) return scene->surfaces->addDiffuse(triangles, albedo, copies);
+               RenderScene* scene) {
+  if (!brdf) return scene->surfaces->addDiffuse(triangles, albedo);
   scene->brdfs.push_back(*brdf);
-  scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1), {}, copies);
+  scene->surfaces->addGlossy(triangles, int(scene->brdfs.size() - 1));
 }
 
 HeightField readHeightField(const HeightFieldDescription& field, const ImageReader& read_image) {
@@ -461,38 +461,55 @@ double verticesPerCell(const HeightFieldDescription& field, bool prefiltered) {
   return field.vertices_per_cell.value_or(prefiltered ? 2.0 : 1.0);
 }
 
-// A height field's triangles: over a sphere or a mesh all of them; on a plane its first tile, and
-// the other tiles as copies of it (SurfaceScene instances: one tile's triangles in memory).
-struct PlacedMesh {
+// A height field's triangles as meshes and their copies (SurfaceScene instances): on a plane its first
+// tile and the others as translations of it (one tile's triangles in memory); over a sphere the first
+// tile of each latitude band and the band's others as turns of it (one tile's per band); over a mesh
+// all of them.
+struct MeshPart {
   std::vector<Triangle> triangles;
-  std::vector<Vec3> copies;  // empty: the triangles alone
+  std::vector<RigidMotion> copies;  // empty: the triangles alone
+};
+
+struct PlacedMesh {
+  std::vector<MeshPart> parts;
   std::shared_ptr<const MeshShell> shell;  // over a mesh: the copy displaced, whose subdivision its hits need
 };
+
+PlacedMesh sphereMesh(const HeightField& height, const SphereShell& sphere, double height_scale) {
+  PlacedMesh mesh;
+  for (int b = 0; b < sphere.tiles_y; ++b) {
+    MeshPart band{shellTileTriangles(height, sphere, height_scale, 0, b), {}};
+    if (sphere.tiles_x > 1)
+      for (int a = 0; a < sphere.tiles_x; ++a) band.copies.push_back(sphere.turn(a));
+    mesh.parts.push_back(std::move(band));
+  }
+  return mesh;
+}
 
 PlacedMesh placedMesh(const HeightField& height, const CurvedBase& base, HeightFieldPlacement placement,
                       double vertices_per_cell, std::vector<std::string>* notes) {
   if (base.mesh) {
     try {
       auto shell = std::make_shared<MeshShell>(*base.mesh);  // each displacement fixes its own subdivision
-      PlacedMesh placed{shell->displace(height, placement.height_scale, vertices_per_cell), {}, shell};
+      PlacedMesh placed{{{shell->displace(height, placement.height_scale, vertices_per_cell), {}}}, shell};
       if (notes)
         notes->push_back(fmt::format("{}: {} triangles, each split {} times for a map of {} x {} cells per tile: {} triangles",
                                      base.mesh_file, shell->baseTriangles(), shell->subdivisions() * shell->subdivisions(),
-                                     height.cellsX(), height.cellsY(), placed.triangles.size()));
+                                     height.cellsX(), height.cellsY(), placed.parts[0].triangles.size()));
       return placed;
     } catch (const std::length_error& e) {
       throw std::runtime_error(base.mesh_file + ": " + e.what());
     }
   }
-  if (base.sphere) return {shellTriangles(height, *base.sphere, placement.height_scale), {}, nullptr};
-  PlacedMesh mesh;
+  if (base.sphere) return sphereMesh(height, *base.sphere, placement.height_scale);
+  MeshPart tile;
   if (placement.tiles_x * placement.tiles_y > 1)
     for (int b = 0; b < placement.tiles_y; ++b)
       for (int a = 0; a < placement.tiles_x; ++a)
-        mesh.copies.push_back(Vec3(a * height.cellsX(), b * height.cellsY(), 0) * height.cellSize());
+        tile.copies.push_back(RigidMotion::translation(Vec3(a * height.cellsX(), b * height.cellsY(), 0) * height.cellSize()));
   placement.tiles_x = placement.tiles_y = 1;
-  mesh.triangles = heightFieldTriangles(height, placement);
-  return mesh;
+  tile.triangles = heightFieldTriangles(height, placement);
+  return {{std::move(tile)}, nullptr};
 }
 
 PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& field, const CurvedBase& base,
@@ -501,12 +518,28 @@ PlacedMesh placedMesh(const HeightField& height, const HeightFieldDescription& f
 }
 
 void extendBounds(const PlacedMesh& mesh, Aabb* bounds) {
-  Aabb tile;
-  extendBounds(mesh.triangles, &tile);
-  if (mesh.copies.empty() || tile.empty()) return extendBounds(mesh.triangles, bounds);
-  for (const Vec3& offset : mesh.copies) {
-    bounds->extend(tile.lo + offset);
-    bounds->extend(tile.hi + offset);
+  for (const MeshPart& part : mesh.parts) {
+    Aabb tile;
+    extendBounds(part.triangles, &tile);
+    if (part.copies.empty() || tile.empty()) {
+      extendBounds(part.triangles, bounds);
+      continue;
+    }
+    for (const RigidMotion& copy : part.copies)
+      for (int corner = 0; corner < 8; ++corner)
+        bounds->extend(copy(Vec3(corner & 1 ? tile.hi.x() : tile.lo.x(), corner & 2 ? tile.hi.y() : tile.lo.y(),
+                                 corner & 4 ? tile.hi.z() : tile.lo.z())));
+  }
+}
+
+// A placed height field's parts with one BRDF, or diffuse.
+void addOpaque(const PlacedMesh& mesh, const Rgb& albedo, const std::optional<MicrofacetBrdf>& brdf, RenderScene* scene) {
+  if (brdf) scene->brdfs.push_back(*brdf);
+  for (const MeshPart& part : mesh.parts) {
+    if (brdf)
+      scene->surfaces->addGlossy(part.triangles, int(scene->brdfs.size() - 1), {}, part.copies);
+    else
+      scene->surfaces->addDiffuse(part.triangles, albedo, part.copies);
   }
 }
 
@@ -535,7 +568,8 @@ void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription&
       {std::make_shared<PrefilteredBrdf>(file.surface, file.base,
                                          curved ? PrefilteredBrdf::Base::kCurved : PrefilteredBrdf::Base::kPlane),
        placement.origin, file.info.size, base.sphere, mesh.shell});
-  scene->surfaces->addPrefiltered(mesh.triangles, int(scene->prefiltered.size() - 1), levels, mesh.copies);
+  for (const MeshPart& part : mesh.parts)
+    scene->surfaces->addPrefiltered(part.triangles, int(scene->prefiltered.size() - 1), levels, part.copies);
 }
 
 void addPrefiltered(const HeightFieldDescription& field, const PrefilteredReader& read, RenderScene* scene, Aabb* bounds) {
@@ -606,7 +640,9 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
     const PlacedMesh mesh = placedMesh(height, original, base, &scene->notes);
     extendBounds(mesh, bounds);
     scene->brdfs.push_back(first.base);
-    scene->surfaces->addGlossy(mesh.triangles, int(scene->brdfs.size() - 1), mipmapLevel(j++, n), mesh.copies);
+    for (const MeshPart& part : mesh.parts)
+      scene->surfaces->addGlossy(part.triangles, int(scene->brdfs.size() - 1), mipmapLevel(j, n), part.copies);
+    ++j;
     footprint.factors.push_back(1);
   }
   for (PrefilteredSurfaceFile& level : levels) {
@@ -682,7 +718,7 @@ RenderScene buildRenderScene(const SceneDescription& description, std::shared_pt
     }
     const PlacedMesh mesh = placedMesh(readHeightField(field, read_image), field, curvedBaseOf(field, field.size), &scene.notes);
     extendBounds(mesh, &everything);
-    addOpaque(mesh.triangles, field.albedo, field.brdf, &scene, mesh.copies);
+    addOpaque(mesh, field.albedo, field.brdf, &scene);
   }
   if (description.ground) {
     const double height = description.ground->height.value_or(bounds.empty() ? 0.0 : bounds.lo.z());

@@ -22,6 +22,8 @@ struct GeometryInfo {
   int brdf = -1;
   int prefiltered = -1;
   std::shared_ptr<const std::vector<Vec3>> normals;  // per triangle; shared by the copies of a mesh
+  RigidMotion copy;      // of a copy of a mesh: its mesh's normals turned by it
+  bool rotated = false;  // copy.rotation is not the identity
 };
 
 void throwOnEmbreeError(RTCDevice device, const char* what) {
@@ -49,7 +51,7 @@ struct SurfaceScene::Impl {
   }
 
   void add(const std::vector<Triangle>& triangles, GeometryInfo info, DetailLevels detail = {},
-           const std::vector<Vec3>& copies = {}) {
+           const std::vector<RigidMotion>& copies = {}) {
     if (committed) throw std::logic_error("SurfaceScene: a surface added after commit");
     if (!(detail.first >= 0 && detail.first <= detail.last)) throw std::invalid_argument("SurfaceScene: bad detail levels");
     if (triangles.empty()) return;
@@ -64,12 +66,18 @@ struct SurfaceScene::Impl {
     rtcReleaseGeometry(mesh);
     rtcCommitScene(scene);
     throwOnEmbreeError(device, "building an instanced mesh");
-    for (const Vec3& offset : copies) {
+    for (const RigidMotion& copy : copies) {
       RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
       if (!instance) throw std::runtime_error("Embree: cannot make a copy of a mesh");
-      attach(instance, detail, info);  // released with the SurfaceScene from here on
+      GeometryInfo placed = info;
+      placed.copy = copy;
+      placed.rotated = !copy.rotation.isIdentity(0);
+      attach(instance, detail, std::move(placed));  // released with the SurfaceScene from here on
       rtcSetGeometryInstancedScene(instance, scene);
-      const float transform[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, float(offset.x()), float(offset.y()), float(offset.z())};
+      float transform[12];  // column major: the rotation's columns, then the offset
+      for (int column = 0; column < 3; ++column)
+        for (int row = 0; row < 3; ++row) transform[3 * column + row] = float(copy.rotation(row, column));
+      for (int row = 0; row < 3; ++row) transform[9 + row] = float(copy.offset[row]);
       rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, transform);
       rtcCommitGeometry(instance);
       throwOnEmbreeError(device, "placing a copy of a mesh");
@@ -132,17 +140,18 @@ SurfaceScene::~SurfaceScene() {
   rtcReleaseDevice(impl_->device);
 }
 
-void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::vector<Vec3>& copies) {
+void SurfaceScene::addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo,
+                              const std::vector<RigidMotion>& copies) {
   impl_->add(triangles, GeometryInfo{albedo, -1, -1, -1, -1, {}}, {}, copies);
 }
 
 void SurfaceScene::addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels,
-                             const std::vector<Vec3>& copies) {
+                             const std::vector<RigidMotion>& copies) {
   impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, brdf_index, -1, {}}, levels, copies);
 }
 
 void SurfaceScene::addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels,
-                                  const std::vector<Vec3>& copies) {
+                                  const std::vector<RigidMotion>& copies) {
   impl_->add(triangles, GeometryInfo{Rgb::Zero(), -1, -1, -1, surface_index, {}}, levels, copies);
 }
 
@@ -189,12 +198,14 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   hit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->sceneOf(level), &context, &hit);
   if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  // A copy's id is its instance's; its mesh is geometry 0 of the instanced scene, and a translation
-  // keeps the normals.
+  // A copy's id is its instance's; its mesh is geometry 0 of the instanced scene, whose normals turn
+  // with the copy.
   const unsigned id = hit.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? hit.hit.instID[0] : hit.hit.geomID;
   const GeometryInfo& info = impl_->geometries[id];
-  return SurfaceHit{double(hit.ray.tfar), (*info.normals)[hit.hit.primID], info.albedo, info.light, info.translucent,
-                    info.brdf, info.prefiltered, hit.hit.primID, Point2(hit.hit.u, hit.hit.v)};
+  const Vec3& normal = (*info.normals)[hit.hit.primID];
+  return SurfaceHit{double(hit.ray.tfar), info.rotated ? info.copy.direction(normal) : normal, info.albedo,
+                    info.light, info.translucent, info.brdf, info.prefiltered, hit.hit.primID,
+                    Point2(hit.hit.u, hit.hit.v)};
 }
 
 bool SurfaceScene::occluded(const Vec3& o, const Vec3& d, double t_min, double t_max, int level) const {

@@ -5,6 +5,7 @@
 // Embree stays behind the implementation.
 
 #include "libvdbappear/math/rgb.h"
+#include "libvdbappear/math/rigid_motion.h"
 #include "libvdbappear/render/area_light.h"  // Triangle
 
 #include <memory>
@@ -41,13 +42,14 @@ class SurfaceScene {
   SurfaceScene(const SurfaceScene&) = delete;
   SurfaceScene& operator=(const SurfaceScene&) = delete;
 
-  // `copies`: translations of the triangles, each an Embree instance of one mesh, so that a tiled
-  // height field holds one tile's triangles whatever its tile count; empty: the triangles as given.
-  void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::vector<Vec3>& copies = {});
+  // `copies`: rigid motions of the triangles, each an Embree instance of one mesh, so that a tiled
+  // height field holds one tile's triangles whatever its tile count (one per latitude band over a
+  // sphere); empty: the triangles as given. A hit's normal is turned with its copy.
+  void addDiffuse(const std::vector<Triangle>& triangles, const Rgb& albedo, const std::vector<RigidMotion>& copies = {});
   void addGlossy(const std::vector<Triangle>& triangles, int brdf_index, DetailLevels levels = {},
-                 const std::vector<Vec3>& copies = {});
+                 const std::vector<RigidMotion>& copies = {});
   void addPrefiltered(const std::vector<Triangle>& triangles, int surface_index, DetailLevels levels = {},
-                      const std::vector<Vec3>& copies = {});
+                      const std::vector<RigidMotion>& copies = {});
   void addLight(const std::vector<Triangle>& triangles, int light_index);
   void addTranslucent(const std::vector<Triangle>& triangles, int object_index);
   void commit();  // once, after the last add and before any query (std::logic_error otherwise)

@@ -50,17 +50,34 @@ Point2 SphereShell::tileCoordinates(const Vec3& p) const {
   return {phi / (2 * kPi) * tiles_x, (1 - theta / kPi) * tiles_y};
 }
 
+RigidMotion SphereShell::turn(int a) const {
+  const double phi = 2 * kPi * a / tiles_x;
+  Mat3 rotation;
+  rotation << std::cos(phi), -std::sin(phi), 0, std::sin(phi), std::cos(phi), 0, 0, 0, 1;
+  return {rotation, centre - rotation * centre};
+}
+
+std::vector<Triangle> shellTileTriangles(const HeightField& field, const SphereShell& shell, double height_scale,
+                                         int a, int b) {
+  std::vector<Triangle> triangles;
+  triangles.reserve(std::size_t(2) * field.cellsX() * field.cellsY());
+  for (int j = 0; j < field.cellsY(); ++j)
+    for (int i = 0; i < field.cellsX(); ++i)
+      for (Triangle t : cellTriangles(field, i, j)) {
+        for (Vec3& p : t) p = shell.point(a + p.x() / field.cellsX(), b + p.y() / field.cellsY(), height_scale * p.z());
+        triangles.push_back(t);
+      }
+  return triangles;
+}
+
 std::vector<Triangle> shellTriangles(const HeightField& field, const SphereShell& shell, double height_scale) {
   std::vector<Triangle> triangles;
   triangles.reserve(std::size_t(2) * field.cellsX() * field.cellsY() * shell.tiles_x * shell.tiles_y);
   for (int b = 0; b < shell.tiles_y; ++b)
-    for (int a = 0; a < shell.tiles_x; ++a)
-      for (int j = 0; j < field.cellsY(); ++j)
-        for (int i = 0; i < field.cellsX(); ++i)
-          for (Triangle t : cellTriangles(field, i, j)) {
-            for (Vec3& p : t) p = shell.point(a + p.x() / field.cellsX(), b + p.y() / field.cellsY(), height_scale * p.z());
-            triangles.push_back(t);
-          }
+    for (int a = 0; a < shell.tiles_x; ++a) {
+      const std::vector<Triangle> tile = shellTileTriangles(field, shell, height_scale, a, b);
+      triangles.insert(triangles.end(), tile.begin(), tile.end());
+    }
   return triangles;
 }
 

@@ -8,6 +8,7 @@
 // along x toward the poles.
 
 #include "libvdbappear/math/frame.h"
+#include "libvdbappear/math/rigid_motion.h"
 #include "libvdbappear/render/area_light.h"  // Triangle
 #include "libvdbappear/surface/height_field.h"
 #include "libvdbappear/surface/tile_stretch.h"
@@ -34,10 +35,17 @@ struct SphereShell {
   Vec3 point(double u, double v, double height) const { return centre + (radius + height) * normal(u, v); }
   // The tile coordinates (u, v) of the point above or below p (the inverse of point's direction).
   Point2 tileCoordinates(const Vec3& p) const;
+  // The turn about the polar axis through the centre by a tiles east: it takes tile (0, b) to tile
+  // (a, b), for every latitude band b.
+  RigidMotion turn(int a) const;
 };
 
 // Vertex (i, j) of tile (a, b) at point(a + i / nx, b + j / ny, height_scale h(i, j)), with the cell
 // split of cellTriangles; the triangles face outward.
 std::vector<Triangle> shellTriangles(const HeightField& field, const SphereShell& shell, double height_scale);
+// The triangles of tile (a, b) alone, as shellTriangles makes them: a band's tiles are this tile
+// (a = 0) turned by shell.turn(a), so that a sphere's tiles need one tile's triangles per band.
+std::vector<Triangle> shellTileTriangles(const HeightField& field, const SphereShell& shell, double height_scale,
+                                         int a, int b);
 
 }  // namespace vdbappear

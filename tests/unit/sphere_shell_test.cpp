@@ -63,6 +63,24 @@ TEST(SphereShell, PlacementFrameFollowsTheMapPosition) {
   }
 }
 
+// A turn by a tiles takes each point above tile (0, b) to the point above tile (a, b), and its frame
+// to that one's: the tiles of a latitude band are copies of one (render/surface_scene.h).
+TEST(SphereShell, TurnTakesATileToTheTileEastOfIt) {
+  const SphereShell shell = SphereShell::ofTiles(Vec3(0.3, -1, 2), 0.7, 6, 3);
+  for (int a = 0; a < shell.tiles_x; ++a) {
+    const RigidMotion turn = shell.turn(a);
+    EXPECT_NEAR(turn.rotation.determinant(), 1, 1e-12);
+    EXPECT_LT((turn.rotation * turn.rotation.transpose() - Mat3::Identity()).norm(), 1e-12);
+    for (const double u : {0.0, 0.37, 1.0})
+      for (const double v : {0.0, 0.61, 1.9, 3.0}) {
+        EXPECT_LT((turn(shell.point(u, v, 0.05)) - shell.point(u + a, v, 0.05)).norm(), 1e-12) << a << " " << u << " " << v;
+        if (v == 0.0 || v == 3.0) continue;  // the frame's east is a limit at the poles
+        const Frame from = shell.frame(u, v), to = shell.frame(u + a, v);
+        EXPECT_LT((turn.direction(from.s) - to.s).norm() + (turn.direction(from.n) - to.n).norm(), 1e-12) << a;
+      }
+  }
+}
+
 // A flat map's mesh lies on the sphere, faces outward, and covers 4 pi r^2 (less the facets' sag).
 TEST(SphereShell, FlatMapMeshesTheSphere) {
   const SphereShell shell = SphereShell::ofTiles(Vec3(0, 0, 1), 1.0, 8, 4);
