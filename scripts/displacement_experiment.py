@@ -34,18 +34,19 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
    (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 85 original cells
    of a 1K^2 map (2.7 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
    each rendered for the time the original takes at --scale-spp, against the original at
-   --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball: tiles on a sphere
-   are not instances, and enough of them for this footprint do not fit in memory, so that its
-   footprint comes from a smaller image instead: the same base over its bumps map at
-   --ball-scale-cells^2 (16.8 M triangles at 512), seen as in sections 1-2 at --ball-scale-res, so
-   that a pixel covers about 13 original cells where the ball faces the camera (the chapter's ball,
-   Table 4.3: its bumps map at 1K^2 over 4^2 tiles, prefiltered at 16x).
+   --scale-spp-ref (another seed); RMSE, mean error and peak memory. The ball: the same base over
+   its bumps map at --ball-scale-cells^2, for each count of --ball-scale-tiles T tiles around the
+   equator (T x T/2 tiles, one tile's triangles per latitude band, the others turned copies of it),
+   the sphere and the view of sections 1-2 scaled by T/8 and seen at --ball-scale-res: a pixel
+   covers about 13 T/8 original cells where the ball faces the camera (T = 52: about the planar
+   surfaces' 85; the chapter's ball, Table 4.3: its bumps map at 1K^2 over 4^2 tiles, at 16x).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
-        [--ball-scale-cells 512] [--ball-scale-res 128x96] [--no-study] [--no-chapter-scales]
+        [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
+        [--no-chapter-scales]
 """
 import argparse
 import json
@@ -350,10 +351,10 @@ def scaled_camera(tiles):
             "up": CAMERA["up"], "fov": CAMERA["fov"]}
 
 
-def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_rows, timing_rows):
+def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_rows, timing_rows, label=None):
     """Section 5 for one map (out/{surface}.exr) placed by `placement`: the glossy base, its R_ir models at
     --factors, each rendered for the time the original takes at --scale-spp, against the original at
-    --scale-spp-ref (another seed); images named after `tag`."""
+    --scale-spp-ref (another seed); images named after `tag`, rows after `label` (the map's name)."""
     fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, **placement}}
     for factor in [int(f) for f in args.factors.split(",")]:
         manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
@@ -366,10 +367,10 @@ def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_r
                           spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
     for spp in [int(v) for v in args.scale_spp.split(",")]:
         seconds, results = equal_time(args, out, tag, fields, reference, spp, camera, res)
-        row = {"surface": surface, "tag": tag, "spp": spp, "seconds": seconds, "original": results.pop("original"),
+        row = {"surface": label or surface, "tag": tag, "spp": spp, "seconds": seconds, "original": results.pop("original"),
                "models": results}
         scale_rows.append(row)
-        print(f"{surface} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
+        print(f"{row['surface']} at scale, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f}, " +
               ", ".join(f"{m} {r['rmse']:.4f}" for m, r in row["models"].items()), flush=True)
 
 
@@ -380,21 +381,32 @@ def chapter_scale(args, out, surface, scale_rows, timing_rows):
                         timing_rows)
 
 
-def ball_cells_per_pixel(args):
-    """Original cells across a pixel where the ball faces the camera (tiles of width 1 at its equator;
-    the camera's fov is vertical)."""
+def ball_cells_per_pixel(args, tiles=8):
+    """Original cells across a pixel where the ball of `tiles` tiles around its equator faces the camera
+    (tiles of width 1 there; the sphere and the camera scaled by tiles / 8; the camera's fov is
+    vertical)."""
     camera, height = BALL["camera"], int(args.ball_scale_res.split("x")[1])
     distance = math.dist(camera["position"], BALL["placement"]["sphere"]) - BALL_RADIUS
-    return 2 * math.tan(math.radians(camera["fov"] / 2)) * distance / height * args.ball_scale_cells
+    return 2 * math.tan(math.radians(camera["fov"] / 2)) * distance / height * args.ball_scale_cells * tiles / 8
+
+
+def ball_scale_tiles(args):
+    return [int(t) for t in args.ball_scale_tiles.split(",")]
 
 
 def ball_at_scale(args, out, scale_rows, timing_rows):
-    """Section 5 on the ball: its tiles over a sphere are not instances, so that the footprint comes from
-    a smaller image, not from more tiles: the bumps map at --ball-scale-cells^2 (512: 16.8 M
-    triangles) over the ball of sections 1-2, seen as there at --ball-scale-res."""
+    """Section 5 on the ball: the bumps map at --ball-scale-cells^2 over T x T/2 tiles for each T of
+    --ball-scale-tiles, the ball of sections 1-2 and its view scaled by T / 8 (the same image at
+    T = 8), seen at --ball-scale-res. A band of tiles is one tile's triangles and turned copies of it."""
     run([tool(args.build, "vdb_make_height_map"), "bumps", "--cells", args.ball_scale_cells, "-o", out / "ball_scale.exr"])
-    equal_time_at_scale(args, out, "ball_scale", "ball_scale", BALL["placement"], BALL["camera"],
-                        [int(v) for v in args.ball_scale_res.split("x")], scale_rows, timing_rows)
+    for k, tiles in enumerate(ball_scale_tiles(args)):
+        grow = tiles / 8
+        camera = {**BALL["camera"], "position": [grow * v for v in BALL["camera"]["position"]]}
+        placement = {**BALL["placement"], "tiles": [tiles, tiles // 2]}
+        equal_time_at_scale(args, out, "ball_scale", f"ball_scale_{tiles}", placement, camera,
+                            [int(v) for v in args.ball_scale_res.split("x")], scale_rows,
+                            timing_rows if k == 0 else [],  # one map, its tables made (and reported) once
+                            label=f"ball, {tiles} x {tiles // 2} tiles")
 
 
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
@@ -463,10 +475,11 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                   f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
                   f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
                   f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render. The ball "
-                  f"(`ball_scale`, if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, "
-                  f"8 x 4 tiles, seen as in sections 1-2 at {args.ball_scale_res} pixels, about "
-                  f"{ball_cells_per_pixel(args):.0f} original cells across a pixel where it faces the camera (its "
-                  f"tiles over a sphere are not instances).", "",
+                  f"(if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, T x T/2 tiles "
+                  f"with the sphere and the view of sections 1-2 scaled by T / 8, seen at {args.ball_scale_res} "
+                  f"pixels: about " + ", ".join(f"{ball_cells_per_pixel(args, t):.0f} (T = {t})" for t in
+                                                ball_scale_tiles(args)) +
+                  " original cells across a pixel where it faces the camera.", "",
                   "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
                   " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
                   " | lowest |", "|---" * (6 + len(models)) + "|"]
@@ -534,6 +547,8 @@ def main():
     parser.add_argument("--scale-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-scale-cells", type=int, default=512,
                         help="of the ball's map in section 5 (0: the ball is left out of it)")
+    parser.add_argument("--ball-scale-tiles", default="8,52",
+                        help="tiles around the ball's equator in section 5, T x T/2 in all (even counts)")
     parser.add_argument("--ball-scale-res", default="128x96", help="of the ball's images in section 5")
     parser.add_argument("--no-study", action="store_true", help="leave out sections 1-3 (to run sections 4-5 alone)")
     parser.add_argument("--no-chapter-scales", action="store_true",
@@ -542,6 +557,11 @@ def main():
     args = parser.parse_args()
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
+    try:
+        if any(t < 2 or t % 2 for t in ball_scale_tiles(args)):
+            raise ValueError
+    except ValueError:
+        parser.error(f"--ball-scale-tiles {args.ball_scale_tiles!r}: a comma-separated list of even tile counts")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
