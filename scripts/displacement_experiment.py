@@ -44,7 +44,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 256] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -540,7 +540,8 @@ def main():
     parser.add_argument("--res", default="192x144")
     parser.add_argument("--lod-spp", default="16,64,256", help="section 4's budgets; empty: no section 4")
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
-    parser.add_argument("--ball-cells", type=int, default=256)
+    parser.add_argument("--ball-cells", type=int, default=1024,
+                        help="of the ball's map (the issue's 1K; 256: §9's earlier ball, whose factors cover more of a bump)")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
