@@ -119,7 +119,8 @@ subsurface: build
 # Displacement-map prefiltering (issue 23): reference, naive, multi-lobe and full models of three
 # procedural surfaces, a ball and a torus at two scales and at each one's scale in the chapter
 # (Table 4.3), under direct light and global illumination; equal time; storage. At the n15 rates
-# (the default) the tables take most of two and a half hours on 2 cores.
+# (the default) it takes about three hours on 2 cores, estimated from its sections timed separately
+# (the ball's sections 1-2 at 1K^2, since 2026-11-30: 29 minutes).
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR)
 
