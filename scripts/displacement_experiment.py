@@ -559,9 +559,10 @@ def main():
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
     try:
-        if any(t < 2 or t % 2 for t in ball_scale_tiles(args)):
-            raise ValueError
+        tile_counts = ball_scale_tiles(args)
     except ValueError:
+        tile_counts = [0]
+    if any(t < 2 or t % 2 for t in tile_counts):
         parser.error(f"--ball-scale-tiles {args.ball_scale_tiles!r}: a comma-separated list of even tile counts")
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

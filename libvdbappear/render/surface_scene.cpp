@@ -22,8 +22,7 @@ struct GeometryInfo {
   int brdf = -1;
   int prefiltered = -1;
   std::shared_ptr<const std::vector<Vec3>> normals;  // per triangle; shared by the copies of a mesh
-  RigidMotion copy;      // of a copy of a mesh: its mesh's normals turned by it
-  bool rotated = false;  // copy.rotation is not the identity
+  Mat3 rotation = Mat3::Identity();  // of a copy of a mesh: its mesh's normals turned by it
 };
 
 void throwOnEmbreeError(RTCDevice device, const char* what) {
@@ -70,8 +69,7 @@ struct SurfaceScene::Impl {
       RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
       if (!instance) throw std::runtime_error("Embree: cannot make a copy of a mesh");
       GeometryInfo placed = info;
-      placed.copy = copy;
-      placed.rotated = !copy.rotation.isIdentity(0);
+      placed.rotation = copy.rotation;
       attach(instance, detail, std::move(placed));  // released with the SurfaceScene from here on
       rtcSetGeometryInstancedScene(instance, scene);
       float transform[12];  // column major: the rotation's columns, then the offset
@@ -203,7 +201,7 @@ std::optional<SurfaceHit> SurfaceScene::intersect(const Vec3& o, const Vec3& d, 
   const unsigned id = hit.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? hit.hit.instID[0] : hit.hit.geomID;
   const GeometryInfo& info = impl_->geometries[id];
   const Vec3& normal = (*info.normals)[hit.hit.primID];
-  return SurfaceHit{double(hit.ray.tfar), info.rotated ? info.copy.direction(normal) : normal, info.albedo,
+  return SurfaceHit{double(hit.ray.tfar), Vec3(info.rotation * normal), info.albedo,
                     info.light, info.translucent, info.brdf, info.prefiltered, hit.hit.primID,
                     Point2(hit.hit.u, hit.hit.v)};
 }
