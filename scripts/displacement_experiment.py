@@ -152,11 +152,13 @@ def same_brdf(written, brdf):
         all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
 
 
-def reusable(manifest, report, cells, factor, brdf, rates):
+def reusable(manifest, report, cells, factor, brdf, rates, stretches=""):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
+    if m.get("settings", {}).get("stretches", []) != (stretches.split(",") if stretches else []):
+        return False
     history = m.get("settings", {}).get("history", "")
     shared = "--shared-positions" in RATES[rates]  # n15's flags are a prefix of n15-shared's
     return (m.get("factor") == factor and m.get("cells", [0])[0] * factor == cells and
@@ -173,9 +175,12 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
     report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
     build, rates = args.build, args.rates
-    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates):
+    # The ball's tiles narrow toward its poles: tables also for the tiles squeezed to --ball-stretches.
+    stretches = args.ball_stretches if surface == "ball" else ""
+    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
-             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates])
+             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
+            (["--stretch", stretches] if stretches else []))
     return manifest, json.loads(report.read_text())
 
 
@@ -542,6 +547,9 @@ def main():
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=1024,
                         help="of the ball's map (the issue's 1K; 256: §9's earlier ball, whose factors cover more of a bump)")
+    parser.add_argument("--ball-stretches", default="",
+                        help="the ball's tables also for its tiles squeezed east-west to these widths (its cosines of "
+                             "latitude, e.g. 0.75,0.5,0.3; docs/displacement.md §6); empty: the square tile's alone")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")

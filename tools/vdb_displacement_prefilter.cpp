@@ -28,14 +28,17 @@ constexpr const char* kExamples = R"(Examples:
   vdb_displacement_prefilter twill.exr twill_16x.json -f 16 --brdf '{"roughness": 0.2, "diffuse": [0.6, 0.1, 0.1]}'
   vdb_displacement_prefilter bumps.exr bumps_8x.json --size 0.1 --height-scale 0.01 --scaling shadowing
   vdb_displacement_prefilter noise.exr quick.json -f 8 --paths 256 --angular-resolution 9 --pairs 500 -v
+  vdb_displacement_prefilter bumps.exr ball_16x.json -f 16 --stretch 0.7,0.45,0.25   # tiles over a sphere
 
 IN is a height map (docs/displacement.md §1): (n + 1)^2 pixels, the heights in its first channel.
 OUT.json is a manifest; OUT.height.exr (h_low), OUT.lobes.exr (six vMF lobes per coarse cell),
-OUT.T.exr and OUT.S.exr (the scaling function T(x) S(wi, wo), Eq. 4.21) are written beside it.
+OUT.T.exr and OUT.S.exr (the scaling function T(x) S(wi, wo), Eq. 4.21) are written beside it,
+and OUT.stretchK.T.exr and OUT.stretchK.S.exr for each --stretch (docs/displacement.md §6).
 The defaults are the chapter's sampling rates (§4.7.1); they take minutes to hours on a 1K map.)";
 
 struct Options {
   std::string input, output, report, brdf = "{}";
+  std::vector<std::string> stretches;
   double size = 1, height_scale = 1;
   int paths = 2500;
   DisplacementPrefilterSettings settings;
@@ -52,6 +55,26 @@ HeightField readHeightMapFor(const Options& o) {
   return field;
 }
 
+// --stretch's "SX" or "SX:SY": the tile diag(SX, SY) (SY 1 when left out) of surface/tile_stretch.h.
+TileStretch parseStretch(const std::string& text) {
+  const std::size_t colon = text.find(':');
+  double x = 0, y = 1;
+  try {
+    std::size_t used = 0;
+    x = std::stod(text.substr(0, colon), &used);
+    if (used != (colon == std::string::npos ? text.size() : colon)) throw std::invalid_argument(text);
+    if (colon != std::string::npos) {
+      y = std::stod(text.substr(colon + 1), &used);
+      if (used != text.size() - colon - 1) throw std::invalid_argument(text);
+    }
+  } catch (const std::logic_error&) {
+    throw std::runtime_error(fmt::format("--stretch: '{}' is not SX or SX:SY (numbers)", text));
+  }
+  if (!(x > 0 && y > 0 && std::isfinite(x) && std::isfinite(y)))
+    throw std::runtime_error(fmt::format("--stretch: '{}': both scales must be positive and finite", text));
+  return TileStretch::diagonal(x, y);
+}
+
 // Bytes as Table 4.3 counts them: 32-bit floats.
 nlohmann::json storage(const HeightField& fine, const PrefilteredSurface& p) {
   std::size_t lobes = 0;
@@ -61,7 +84,8 @@ nlohmann::json storage(const HeightField& fine, const PrefilteredSurface& p) {
           {"height", floats(std::size_t(p.height.verticesX()) * p.height.verticesY())},
           {"svndf", floats(p.ndfs.size() * lobes * 5)},
           {"T", floats(3 * p.scaling.T.values.size())},
-          {"S", floats(3 * p.scaling.S.values.size())}};
+          {"S", floats(3 * p.scaling.S.values.size())},
+          {"stretched_tables", floats(3 * p.stretched.size() * (p.scaling.T.values.size() + p.scaling.S.values.size()))}};
 }
 
 // The range of a table's first channel (min, mean, max): what a user checks first.
@@ -79,6 +103,11 @@ int prefilter(const Options& o, const std::string& history) {
   tool::checkOutputs(o.input, o.output, o.report);
   for (const char* part : {"height", "lobes", "T", "S"})
     tool::checkOutputs(o.input, prefilteredPartPath(o.output, part), "");
+  DisplacementPrefilterSettings settings = o.settings;
+  for (const std::string& text : o.stretches) settings.stretches.push_back(parseStretch(text));
+  for (std::size_t k = 1; k <= settings.stretches.size(); ++k)
+    for (const char* table : {"T", "S"})
+      tool::checkOutputs(o.input, prefilteredPartPath(o.output, fmt::format("stretch{}.{}", k, table)), "");
   nlohmann::json brdf;
   try {
     brdf = nlohmann::json::parse(o.brdf);
@@ -90,7 +119,6 @@ int prefilter(const Options& o, const std::string& history) {
   const HeightField fine = readHeightMapFor(o);
   const double read_seconds = clock.lap();
 
-  DisplacementPrefilterSettings settings = o.settings;
   settings.samples_per_side = std::max(1, int(std::lround(std::sqrt(double(o.paths)))));
   PrefilteredSurfaceFile file{{}, base, {o.input, settings.factor, o.size, o.height_scale, settings.scaling}};
   {
@@ -109,6 +137,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"bias_correction", f.jackknife ? "jackknife" : "none"},
       {"shared_positions", f.shared_positions},
       {"max_theta_degrees", f.max_theta_degrees},
+      {"stretches", o.stretches},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
   writePrefilteredSurface(file, o.output, recorded);
@@ -204,6 +233,11 @@ int main(int argc, char** argv) {
                  "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
       ->check(CLI::Range(1.0, 89.0))
       ->capture_default_str();
+  app.add_option("--stretch", o.stretches,
+                 "also the scaling tables of the tile stretched to SX (along x) by SY (along y), for each "
+                 "SX[:SY] given (SY 1): what a sphere's tiles are toward its poles (SX its cosine of latitude); "
+                 "vdb_render reads the nearest two (docs/displacement.md §6)")
+      ->delimiter(',');
   app.add_option("--seed", s.seed, "random seed (same output for any thread count)")->capture_default_str();
   app.add_flag("-v,--verbose", o.verbose, "print sizes, bytes per part and timings to stderr");
   app.add_option("--report", o.report, "write a JSON report (bytes per part, timings) to this file");

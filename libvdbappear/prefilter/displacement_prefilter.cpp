@@ -6,8 +6,10 @@
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/surface/patch_ndf.h"
 #include "libvdbappear/util/hash_random.h"
+#include "libvdbappear/util/progress.h"
 #include "libvdbappear/util/stopwatch.h"
 
+#include <Eigen/LU>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -26,6 +28,9 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
          " x " + std::to_string(fine.cellsY()) + " cells (a map of (n + 1)^2 pixels has n^2 cells)");
   if (s.normals_per_cell_side < 1 || s.samples_per_side < 1 || s.max_vertices < 1)
     fail("sample counts must be at least 1");
+  for (const TileStretch& stretch : s.stretches)
+    if (!(stretch.matrix().determinant() > 0) || !stretch.matrix().allFinite())
+      fail("a tile's stretch must be finite with a positive determinant (it may not mirror or flatten the tile)");
 }
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
@@ -38,9 +43,12 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
 // furnace of white bumps came out 1.14 (docs/displacement.md §6).
 class ScalingEstimator {
  public:
+  // `stretch`: of the tile the estimates are for (surface/tile_stretch.h): both micro-geometries
+  // laid out stretched, directions the stretched surface's, and f'_low as the model shades that
+  // tile (MultiLobeBrdf::onStretchedTile).
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
-                   const DisplacementPrefilterSettings& s)
-      : original_(fine), prefiltered_(low.height), base_(base), s_(s) {
+                   const DisplacementPrefilterSettings& s, const TileStretch& stretch)
+      : original_(fine, stretch), prefiltered_(low.height, stretch), base_(base), s_(s) {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
     low_scattering_ = lowScattering();
     original_scattering_ = microfacetScattering(base);
@@ -57,6 +65,10 @@ class ScalingEstimator {
     }
     const EffectiveBrdf original =
         effectiveBrdf(original_, u * F, v * F, F, microfacetPatchBrdf(base_), wi, wo, single(seed));
+    if (!stretch().isIdentity()) {  // f'_low depends on the coarse facet (its weight)
+      const EffectiveBrdf low = effectiveBrdf(prefiltered_, u, v, 1, stretchedLow(u, v), wi, wo, single(seed));
+      return {original.value * original.visible_area, low.value * low.visible_area};
+    }
     const EffectiveBrdf geometry = effectiveBrdf(prefiltered_, u, v, 1, one(), wi, wo, single(seed));
     // Each weighted by its visible projected area toward wo (Eq. 4.8): the light the patch sends
     // toward the viewer, which is what a bin's sums compare (scaling_factorization.h).
@@ -81,6 +93,12 @@ class ScalingEstimator {
     }
     const std::vector<EffectiveBrdf> original =
         effectiveBrdfs(original_, u * F, v * F, F, microfacetPatchBrdf(base_), wis, wo, single(seed));
+    if (!stretch().isIdentity()) {
+      const std::vector<EffectiveBrdf> low = effectiveBrdfs(prefiltered_, u, v, 1, stretchedLow(u, v), wis, wo, single(seed));
+      for (std::size_t k = 0; k < wis.size(); ++k)
+        out[k] = {original[k].value * original[k].visible_area, low[k].value * low[k].visible_area};
+      return;
+    }
     const std::vector<EffectiveBrdf> geometry = effectiveBrdfs(prefiltered_, u, v, 1, one(), wis, wo, single(seed));
     for (std::size_t k = 0; k < wis.size(); ++k)
       out[k] = {original[k].value * original[k].visible_area,
@@ -91,22 +109,36 @@ class ScalingEstimator {
   const MultiLobeBrdf& cellBrdf(int u, int v) const {
     return f_low_[std::size_t(u) + std::size_t(prefiltered_.field().cellsX()) * std::size_t(v)];
   }
+  const TileStretch& stretch() const { return prefiltered_.stretch(); }
+  // f'_low on a plane as the model shades it at coarse facet normal n_c: eval() on the square tile,
+  // MultiLobeBrdf::onStretchedTile on a stretched one, both cut at the base horizon.
+  Rgb lowBrdf(const MultiLobeBrdf& f, const Vec3& wi, const Vec3& wo, const Vec3& coarse_normal) const {
+    if (stretch().isIdentity()) return f.eval(wi, wo);
+    if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
+    return f.onStretchedTile(wi, wo, stretch(), coarse_normal);
+  }
+  PatchBrdf stretchedLow(int u, int v) const {
+    return [this, &f = cellBrdf(u, v)](const Vec3&, const Vec3& normal, const Vec3& wi, const Vec3& wo) {
+      return lowBrdf(f, wi, wo, normal);
+    };
+  }
   // f'_low on G_low for paths: the lobes of the coarse cell under each point, in the base frame,
   // with the coarse surface's cosine (as vdb_render shades it, prefilter/prefiltered_brdf.h).
   PatchScattering lowScattering() const {
     const auto cell = [this](const MicroGeometry::Point& x) -> const MultiLobeBrdf& {
       const HeightField& h = prefiltered_.field();
-      const int u = std::clamp(int(x.x.x() / h.cellSize()), 0, h.cellsX() - 1);
-      const int v = std::clamp(int(x.x.y() / h.cellSize()), 0, h.cellsY() - 1);
-      return cellBrdf(u, v);
+      return cellBrdf(std::clamp(int(x.base.x()), 0, h.cellsX() - 1), std::clamp(int(x.base.y()), 0, h.cellsY() - 1));
     };
     PatchScattering s;
-    s.eval = [cell](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) { return cell(x).eval(wi, wo); };
-    s.sample = [cell](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
+    s.eval = [this, cell](const MicroGeometry::Point& x, const Vec3& wi, const Vec3& wo) {
+      return lowBrdf(cell(x), wi, wo, x.normal);
+    };
+    s.sample = [this, cell](const MicroGeometry::Point& x, const Vec3& wo, double u_lobe, const Point2& u) {
       const MultiLobeBrdf& f = cell(x);
       BrdfSample sample = f.sample(wo, u_lobe, u);
       const double cos_n = x.normal.dot(sample.wi);
-      if (sample.pdf > 0) sample.weight = cos_n > 0 ? Rgb(f.eval(sample.wi, wo) * (cos_n / sample.pdf)) : Rgb(Rgb::Zero());
+      if (sample.pdf > 0)
+        sample.weight = cos_n > 0 ? Rgb(lowBrdf(f, sample.wi, wo, x.normal) * (cos_n / sample.pdf)) : Rgb(Rgb::Zero());
       return sample;
     };
     return s;
@@ -162,11 +194,16 @@ PrefilteredSurface prefilterDisplacement(const HeightField& fine, const Microfac
   result.seconds.height = clock.lap();
   result.ndfs = fitPatchNdfs(fine, s);  // step 2
   result.seconds.ndfs = clock.lap();
-  const ScalingEstimator R(fine, result, base, s);  // step 3
-  const ViewScalingSampler R_view = [&R](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
-                                         const Vec3& wo, ScalingSample* out) { R.forView(u, v, visit, wis, wo, out); };
-  result.scaling = factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(),
-                                    s.factorization, progress, R_view);  // step 4
+  // Steps 3-4, for the square tile and each stretched one.
+  const auto scalingOf = [&](const TileStretch& stretch, ProgressBar* bar) {
+    const ScalingEstimator R(fine, result, base, s, stretch);
+    const ViewScalingSampler R_view = [&R](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
+                                           const Vec3& wo, ScalingSample* out) { R.forView(u, v, visit, wis, wo, out); };
+    return factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(), s.factorization, bar, R_view);
+  };
+  if (progress) progress->setTotal((1 + s.stretches.size()) * tableBins(s.factorization));
+  result.scaling = scalingOf(TileStretch(), progress);
+  for (const TileStretch& stretch : s.stretches) result.stretched.push_back({stretch, scalingOf(stretch, progress)});
   result.seconds.scaling = clock.lap();
   return result;
 }

@@ -12,6 +12,7 @@
 #include "libvdbappear/prefilter/scaling_factorization.h"
 #include "libvdbappear/surface/height_field.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
+#include "libvdbappear/surface/tile_stretch.h"
 #include "libvdbappear/surface/vmf_ndf.h"
 
 #include <cstdint>
@@ -35,13 +36,26 @@ struct DisplacementPrefilterSettings {
   int samples_per_side = 50;        // 2500 paths per effective BRDF estimate (§4.7.1)
   int max_vertices = 32;            // of a path in the micro-geometry
   FactorizationSettings factorization;  // M = 4, N = 15, 5000 pairs per T bin, 16 p per S bin
+  // Tiles that a surface lays the map out stretched as (surface/tile_stretch.h; a sphere's tiles
+  // narrow toward its poles): the scaling tables also for each of them, besides the square tile's.
+  std::vector<TileStretch> stretches;
   std::uint64_t seed = 1;
+};
+
+// The scaling tables of a tile laid out stretched by `stretch`: R_ir (or R) of the stretched
+// original over the model as it shades that tile, MultiLobeBrdf::onStretchedTile on the stretched
+// h_low, factorised as T S with directions in the stretched surface's frame (docs/displacement.md
+// §6, "Tables for stretched tiles").
+struct StretchedScaling {
+  TileStretch stretch;
+  FactorizedScaling scaling;
 };
 
 struct PrefilteredSurface {
   HeightField height;             // h_low
   std::vector<VmfMixture> ndfs;   // coarse cell (u, v) at u + cells_x v
-  FactorizedScaling scaling;      // T S
+  FactorizedScaling scaling;      // T S of the square tile
+  std::vector<StretchedScaling> stretched;  // T S of stretched tiles, one per settings.stretches
   struct {
     double height = 0, ndfs = 0, scaling = 0;  // wall-clock seconds of steps 1, 2 and 3-4
   } seconds;

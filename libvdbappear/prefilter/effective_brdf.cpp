@@ -13,9 +13,19 @@
 
 namespace vdbappear {
 
-MicroGeometry::MicroGeometry(const HeightField& field) : field_(field), scene_(std::make_unique<SurfaceScene>()) {
-  scene_->addDiffuse(heightFieldTriangles(field_, {}), Rgb::Zero());
+MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretch)
+    : field_(field), stretch_(stretch), scene_(std::make_unique<SurfaceScene>()) {
+  std::vector<Triangle> triangles = heightFieldTriangles(field_, {});
+  if (!stretch_.isIdentity())
+    for (Triangle& t : triangles)
+      for (Vec3& vertex : t) vertex = stretched(vertex);
+  scene_->addDiffuse(triangles, Rgb::Zero());
   scene_->commit();
+}
+
+Vec3 MicroGeometry::stretched(const Vec3& on_map) const {
+  const Eigen::Vector2d xy = stretch_.matrix() * on_map.head<2>();
+  return {xy.x(), xy.y(), on_map.z()};
 }
 
 MicroGeometry::~MicroGeometry() = default;
@@ -29,11 +39,13 @@ MicroGeometry::Point MicroGeometry::at(double u, double v) const {
   const Vec3 base(u * s, v * s, 0);
   // The height above base on the triangle's plane: normal . (x - a) = 0.
   const double z = a.z() - (normal.x() * (base.x() - a.x()) + normal.y() * (base.y() - a.y())) / normal.z();
-  return {Vec3(base.x(), base.y(), z), normal};
+  if (stretch_.isIdentity()) return {Vec3(base.x(), base.y(), z), normal, Point2(u, v)};
+  return {stretched(Vec3(base.x(), base.y(), z)), stretch_.normalOnSurface(normal), Point2(u, v)};
 }
 
 double MicroGeometry::rayEpsilon() const {
-  return 1e-6 * std::max(1.0, field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
+  const double stretch = std::max(1.0, stretch_.matrix().cwiseAbs().maxCoeff());
+  return 1e-6 * std::max(1.0, stretch * field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
 }
 
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
@@ -46,7 +58,9 @@ std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const V
   const Vec3 origin = p.x + eps * p.normal;
   const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
   if (!hit) return std::nullopt;
-  return Point{origin + hit->t * w, hit->normal};
+  const Vec3 x = origin + hit->t * w;
+  const Eigen::Vector2d on_map = stretch_.isIdentity() ? Eigen::Vector2d(x.head<2>()) : stretch_.inverse() * x.head<2>();
+  return Point{x, hit->normal, Point2(on_map / field_.cellSize())};
 }
 
 PatchBrdf microfacetPatchBrdf(const MicrofacetBrdf& base) {

@@ -8,6 +8,7 @@
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 #include "libvdbappear/surface/height_field.h"
+#include "libvdbappear/surface/tile_stretch.h"
 
 #include <cstdint>
 #include <functional>
@@ -20,10 +21,13 @@ namespace vdbappear {
 class SurfaceScene;
 
 // A height field as the renderer sees it (two triangles per cell, surface/height_field_mesh.h):
-// points and normals above base positions, and visibility along rays (Embree).
+// points and normals above base positions, and visibility along rays (Embree). Laid out stretched
+// by `stretch` (surface/tile_stretch.h: the map's (x, y) to the surface's, heights kept), it is the
+// tile as a sphere or a mesh lays it out: points, normals and rays are then the stretched
+// surface's, and base positions stay the map's.
 class MicroGeometry {
  public:
-  explicit MicroGeometry(const HeightField& field);
+  explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {});
   ~MicroGeometry();
   MicroGeometry(const MicroGeometry&) = delete;
   MicroGeometry& operator=(const MicroGeometry&) = delete;
@@ -31,6 +35,7 @@ class MicroGeometry {
   struct Point {
     Vec3 x;       // on the surface
     Vec3 normal;  // of its triangle, facing +z
+    Point2 base;  // the base position on the map, in cell units
   };
   // The surface above base position (u, v), in cell units (0 <= u <= cells x, 0 <= v <= cells y).
   Point at(double u, double v) const;
@@ -39,10 +44,13 @@ class MicroGeometry {
   // The first point that a ray from p along w meets, if any (none past the field's edges).
   std::optional<Point> trace(const Point& p, const Vec3& w) const;
   const HeightField& field() const { return field_; }
+  const TileStretch& stretch() const { return stretch_; }
 
  private:
   double rayEpsilon() const;
+  Vec3 stretched(const Vec3& on_map) const;
   HeightField field_;
+  TileStretch stretch_;
   std::unique_ptr<SurfaceScene> scene_;
 };
 

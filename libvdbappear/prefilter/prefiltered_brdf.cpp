@@ -1,5 +1,7 @@
 #include "libvdbappear/prefilter/prefiltered_brdf.h"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -7,11 +9,47 @@
 namespace vdbappear {
 
 PrefilteredBrdf::PrefilteredBrdf(const PrefilteredSurface& surface, const MicrofacetBrdf& base, Base shape)
-    : cells_x_(surface.height.cellsX()), cells_y_(surface.height.cellsY()), shape_(shape), scaling_(surface.scaling) {
+    : cells_x_(surface.height.cellsX()), cells_y_(surface.height.cellsY()), shape_(shape) {
   if (surface.ndfs.size() != std::size_t(cells_x_) * std::size_t(cells_y_))
     throw std::invalid_argument("PrefilteredBrdf: one NDF per coarse cell");
   cells_.reserve(surface.ndfs.size());
   for (const VmfMixture& ndf : surface.ndfs) cells_.emplace_back(ndf, base);
+  tables_.push_back({TileStretch(), surface.scaling});
+  tables_.insert(tables_.end(), surface.stretched.begin(), surface.stretched.end());
+}
+
+namespace {
+
+// d_k of scalingOnTile(): how far the residual stretch R is from none, either way.
+double residualDistance(const TileStretch& residual) {
+  const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
+  return (residual.matrix() - I).norm() + (residual.inverse() - I).norm();
+}
+
+}  // namespace
+
+Rgb PrefilteredBrdf::scalingOnTile(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
+  const auto read = [&](const StretchedScaling& table, const TileStretch& residual) {
+    return table.scaling(x, residual.toMap(wi), residual.toMap(wo));
+  };
+  if (tables_.size() == 1) return read(tables_.front(), stretch);
+  struct Candidate {
+    double distance;
+    std::size_t table;
+    TileStretch residual;
+  };
+  std::vector<Candidate> nearest;
+  for (std::size_t k = 0; k < tables_.size(); ++k) {
+    const TileStretch residual(stretch.matrix() * tables_[k].stretch.inverse());
+    nearest.push_back({residualDistance(residual), k, residual});
+  }
+  std::partial_sort(nearest.begin(), nearest.begin() + std::min<std::size_t>(3, nearest.size()), nearest.end(),
+                    [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
+  if (nearest[0].distance <= 1e-12) return read(tables_[nearest[0].table], nearest[0].residual);
+  const double beyond = nearest.size() > 2 ? 1 / nearest[2].distance : 0;
+  const double w0 = 1 / nearest[0].distance - beyond, w1 = std::max(1 / nearest[1].distance - beyond, 0.0);
+  return (read(tables_[nearest[0].table], nearest[0].residual) * w0 +
+          read(tables_[nearest[1].table], nearest[1].residual) * w1) / (w0 + w1);
 }
 
 const MultiLobeBrdf& PrefilteredBrdf::cellAt(const Point2& x) const {
@@ -23,23 +61,17 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo, const
                           const Vec3& coarse_normal) const {
   const MultiLobeBrdf& f = cellAt(x);
   if (!stretch.isIdentity()) {
-    const Vec3 vi = stretch.toMap(wi), vo = stretch.toMap(wo);
-    if (shape_ == Base::kPlane && (vi.z() <= 0 || vo.z() <= 0)) return Rgb::Zero();
-    const Rgb projected = f.projected(wi, wo, stretch);
-    if ((projected == 0).all()) return projected;
-    // 1 / cos theta(vi) = |A^-1 wi| / cos theta_i: limited where the surface's own wi grazes, not
-    // where the mapped vi does (toward a sphere's poles most vi graze).
-    const double mapped_length = std::abs(wi.z()) / std::max(std::abs(vi.z()), 1e-300);
-    const double coarse_weight = stretch.facetWeightOnSurface(coarse_normal.normalized());
-    return scaling_(x, vi, vo) * (projected * (mapped_length / (MultiLobeBrdf::limitedCosine(wi.z()) * coarse_weight)));
+    if (shape_ == Base::kPlane && (wi.z() <= 0 || wo.z() <= 0)) return Rgb::Zero();  // the sign of vi.z, vo.z
+    const Rgb f_low = f.onStretchedTile(wi, wo, stretch, coarse_normal);
+    return (f_low == 0).all() ? f_low : Rgb(scalingOnTile(x, wi, wo, stretch) * f_low);
   }
   if (shape_ == Base::kPlane) {
     const Rgb f_low = f.eval(wi, wo);
-    return (f_low == 0).all() ? f_low : Rgb(scaling_(x, wi, wo) * f_low);
+    return (f_low == 0).all() ? f_low : Rgb(square(x, wi, wo) * f_low);
   }
   const Rgb projected = f.projected(wi, wo);
   if ((projected == 0).all()) return projected;
-  return scaling_(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
+  return square(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
 }
 
 // Above the horizon the lobes' own draws; below it, with probability kBelowHorizonShare, those
@@ -52,7 +84,7 @@ BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lob
   if (shape_ == Base::kPlane) {
     BrdfSample s = cellAt(x).sample(wo, u_lobe, u);
     if (s.pdf > 0)
-      s.weight = stretch.isIdentity() ? Rgb(s.weight * scaling_(x, s.wi, wo))
+      s.weight = stretch.isIdentity() ? Rgb(s.weight * square(x, s.wi, wo))
                                       : Rgb(eval(x, s.wi, wo, stretch, coarse_normal) * (s.wi.z() / s.pdf));
     return s;
   }

@@ -39,8 +39,11 @@ class PrefilteredBrdf {
   // weight divided out, as tile_stretch.h derives:
   //   f_low = T(x) S(vi, vo) MultiLobeBrdf::projected(wi, wo, stretch) / cos theta(vi) / |A^T n_c|,
   // 1 / cos theta(vi) = |A^-1 wi| / cos theta_i limited as MultiLobeBrdf limits 1 / cos theta_i.
-  // S and T were computed for the square tile: only f'_low's facets are weighed, and S and T read
-  // at the mapped directions keep what shadows and masks what (docs/displacement.md §8).
+  // T S are the tables made for the tile nearest the stretch (the square's, or one of
+  // PrefilteredSurface::stretched), read at the directions mapped from the surface to that tile;
+  // between two tables, both blended (scalingOnTile). With the square's alone: only f'_low's facets
+  // are weighed, and S and T read at the mapped directions keep what shadows and masks what
+  // (docs/displacement.md §8).
   Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch = {},
            const Vec3& coarse_normal = Vec3::UnitZ()) const;
   // wi by f'_low's lobes (of the square tile whatever the stretch), and on a curved base with
@@ -49,13 +52,23 @@ class PrefilteredBrdf {
                     const Vec3& coarse_normal = Vec3::UnitZ()) const;
   double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()
 
+  // T(x) S of the tables for a tile stretched by `stretch`, wi and wo the surface's: each table k
+  // made for A_k is read at R_k.toMap(w), R_k = A A_k^-1 the stretch left from its tile to this one.
+  // The nearest two tables by d_k = |R_k - I| + |R_k^-1 - I| (Frobenius) are blended with weights
+  // 1 / d_k - 1 / d_3, d_3 the third nearest's distance (0 without one), so that a table's own
+  // stretch reads that table alone and the blend changes continuously with the stretch.
+  Rgb scalingOnTile(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const;
+
  private:
   const MultiLobeBrdf& cellAt(const Point2& x) const;
 
   std::vector<MultiLobeBrdf> cells_;  // cell (u, v) at u + cells_x v
   int cells_x_, cells_y_;
+  // T S of the square tile's tables.
+  Rgb square(const Point2& x, const Vec3& wi, const Vec3& wo) const { return tables_.front().scaling(x, wi, wo); }
+
   Base shape_;
-  FactorizedScaling scaling_;
+  std::vector<StretchedScaling> tables_;  // the square tile's first, then the stretched tiles'
 };
 
 }  // namespace vdbappear

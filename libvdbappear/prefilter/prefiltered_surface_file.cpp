@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -79,6 +81,29 @@ std::vector<Rgb> spatialRows(const SpatialScaling& T) {
   return rows;
 }
 
+ImageChannels spatialImage(const SpatialScaling& T) { return rgbTable(spatialRows(T), T.resolution); }
+ImageChannels angularImage(const AngularScaling& S) { return rgbTable(S.values, S.resolution * S.resolution); }
+
+Rgb pixelRgb(const ImageChannels& image, int column, int row) {
+  return {pixel(image, column, row, 0), pixel(image, column, row, 1), pixel(image, column, row, 2)};
+}
+
+SpatialScaling spatialTable(const ImageChannels& image, int M) {
+  SpatialScaling T;
+  T.resolution = M;
+  for (int b = 0; b < M; ++b)
+    for (int a = 0; a < M; ++a) T.values.push_back(pixelRgb(image, a, M - 1 - b));
+  return T;
+}
+
+AngularScaling angularTable(const ImageChannels& image, int N) {
+  AngularScaling S;
+  S.resolution = N;
+  for (int row = 0; row < N * N; ++row)
+    for (int column = 0; column < N * N; ++column) S.values.push_back(pixelRgb(image, column, row));
+  return S;
+}
+
 void fail(const std::string& path, const std::string& what) { throw MediumError(fmt::format("{}: {}", path, what)); }
 
 ImageChannels readPart(const std::string& path, int width, int height, int min_channels) {
@@ -103,11 +128,15 @@ std::string prefilteredPartPath(const std::string& manifest_path, const std::str
 void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::string& manifest_path, const json& extra) {
   const PrefilteredSurface& s = file.surface;
   const int cells_x = s.height.cellsX(), cells_y = s.height.cellsY();
-  const std::pair<std::string, ImageChannels> parts[] = {
+  std::vector<std::pair<std::string, ImageChannels>> parts = {
       {"height", heightMapImage(s.height, file.info.height_scale)},
       {"lobes", lobeImage(s.ndfs, cells_x, cells_y)},
-      {"T", rgbTable(spatialRows(s.scaling.T), s.scaling.T.resolution)},
-      {"S", rgbTable(s.scaling.S.values, s.scaling.S.resolution * s.scaling.S.resolution)}};
+      {"T", spatialImage(s.scaling.T)},
+      {"S", angularImage(s.scaling.S)}};
+  for (std::size_t k = 0; k < s.stretched.size(); ++k) {
+    parts.emplace_back(fmt::format("stretch{}.T", k + 1), spatialImage(s.stretched[k].scaling.T));
+    parts.emplace_back(fmt::format("stretch{}.S", k + 1), angularImage(s.stretched[k].scaling.S));
+  }
   std::vector<std::unique_ptr<AtomicFile>> outputs;
   json files;
   for (const auto& [part, image] : parts) {
@@ -115,6 +144,16 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
     outputs.push_back(std::make_unique<AtomicFile>(path));
     writeExrChannels(image, ExrPixelType::float32, outputs.back()->temporaryPath(), path);
     files[part] = std::filesystem::path(path).filename().string();
+  }
+  json stretched = json::array();
+  for (std::size_t k = 0; k < s.stretched.size(); ++k) {
+    const Eigen::Matrix2d& m = s.stretched[k].stretch.matrix();
+    const std::string name = fmt::format("stretch{}", k + 1);
+    stretched.push_back({{"stretch", {{m(0, 0), m(0, 1)}, {m(1, 0), m(1, 1)}}},
+                         {"T", files[name + ".T"]},
+                         {"S", files[name + ".S"]}});
+    files.erase(name + ".T");
+    files.erase(name + ".S");
   }
   const json manifest = {{"format", kFormat},
                          {"version", kVersion},
@@ -128,6 +167,7 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
                          {"spatial_resolution", s.scaling.T.resolution},
                          {"angular_resolution", s.scaling.S.resolution},
                          {"files", files},
+                         {"stretched", stretched},
                          {"settings", extra}};
   AtomicFile output(manifest_path);
   {
@@ -182,14 +222,20 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
           s.ndfs[std::size_t(u) + std::size_t(cells_x) * v].lobes.push_back({c(0), c(1), Vec3(c(2), c(3), c(4)).normalized()});
         }
     }
-    const ImageChannels T = readPart(part("T"), M, M, 3), S = readPart(part("S"), N * N, N * N, 3);
-    s.scaling.T.resolution = M;
-    for (int b = 0; b < M; ++b)
-      for (int a = 0; a < M; ++a) s.scaling.T.values.push_back(Rgb(pixel(T, a, M - 1 - b, 0), pixel(T, a, M - 1 - b, 1), pixel(T, a, M - 1 - b, 2)));
-    s.scaling.S.resolution = N;
-    for (int row = 0; row < N * N; ++row)
-      for (int column = 0; column < N * N; ++column)
-        s.scaling.S.values.push_back(Rgb(pixel(S, column, row, 0), pixel(S, column, row, 1), pixel(S, column, row, 2)));
+    const auto tables = [&](const std::string& T_path, const std::string& S_path) {
+      return FactorizedScaling{spatialTable(readPart(T_path, M, M, 3), M), angularTable(readPart(S_path, N * N, N * N, 3), N)};
+    };
+    s.scaling = tables(part("T"), part("S"));
+    for (const json& table : m.value("stretched", json::array())) {
+      const json& rows = table.at("stretch");
+      Eigen::Matrix2d stretch;
+      stretch << rows.at(0).at(0).get<double>(), rows.at(0).at(1).get<double>(), rows.at(1).at(0).get<double>(),
+          rows.at(1).at(1).get<double>();
+      if (!stretch.allFinite() || !(stretch.determinant() > 0))
+        fail(manifest_path, "a \"stretched\" table's \"stretch\" must be finite with a positive determinant");
+      s.stretched.push_back({TileStretch(stretch), tables((folder / table.at("T").get<std::string>()).string(),
+                                                          (folder / table.at("S").get<std::string>()).string())});
+    }
     return {std::move(s), base, info};
   } catch (const json::exception& e) {
     fail(manifest_path, e.what());

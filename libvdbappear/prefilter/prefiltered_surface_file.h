@@ -3,7 +3,9 @@
 // and four OpenEXR files beside it, named after it,
 //   OUT.height.exr  h_low, (n/F + 1)^2 heights, the height-map contract of §1;
 //   OUT.lobes.exr   the SVNDF, one pixel per coarse cell, channels lobeK.{A,kappa,X,Y,Z};
-//   OUT.T.exr       T_ir(x), M x M RGB;   OUT.S.exr  S_ir(wi, wo), N^2 x N^2 RGB.
+//   OUT.T.exr       T_ir(x), M x M RGB;   OUT.S.exr  S_ir(wi, wo), N^2 x N^2 RGB;
+// and for each stretched tile's tables (PrefilteredSurface::stretched) OUT.stretchK.T.exr and
+// OUT.stretchK.S.exr, K from 1, listed with their stretch under the manifest's "stretched" key.
 // Part of the image library (vdbappear::image).
 
 #include "libvdbappear/prefilter/displacement_prefilter.h"

@@ -126,6 +126,11 @@ Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
   return {w.x() / r * std::sin(max_theta), w.y() / r * std::sin(max_theta), std::cos(max_theta)};
 }
 
+std::uint64_t tableBins(const FactorizationSettings& s) {
+  const std::uint64_t M = std::uint64_t(s.spatial_resolution), N = std::uint64_t(s.angular_resolution);
+  return M * M + N * N * N * N;
+}
+
 ViewScalingSampler sampledPerLight(ScalingSampler R) {
   return [R = std::move(R)](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis, const Vec3& wo,
                             ScalingSample* out) {
@@ -145,7 +150,6 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   result.T.values.assign(std::size_t(M) * M, Rgb::Zero());
   result.S.resolution = N;
   result.S.values.assign(std::size_t(N) * N * N * N, Rgb::Zero());
-  if (progress) progress->setTotal(result.T.values.size() + result.S.values.size());
 
   tbb::parallel_for(std::size_t(0), result.T.values.size(), [&](std::size_t bin) {
     result.T.values[bin] = spatialBin(R, int(bin % M), int(bin / M), cells_x, cells_y, s);

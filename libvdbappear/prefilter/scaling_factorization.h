@@ -75,10 +75,14 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
 
 // Over a map of cells_x x cells_y coarse cells. T's bins from R; S's bins from R, or with
 // shared_positions those of one wo from R_view (R a call per wi when it is empty). Deterministic
-// under the seed for any thread count.
+// under the seed for any thread count. `progress` advances by one per bin (tableBins()); its total
+// is the caller's to set.
 FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
                                    const FactorizationSettings& settings, ProgressBar* progress = nullptr,
                                    const ViewScalingSampler& R_view = {});
+
+// The bins of T and S together: M^2 + N^4.
+std::uint64_t tableBins(const FactorizationSettings& settings);
 
 // w with its polar angle limited to max_theta (radians), keeping its azimuth.
 Vec3 limitPolarAngle(const Vec3& w, double max_theta);

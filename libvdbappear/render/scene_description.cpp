@@ -547,7 +547,10 @@ void addOpaque(const PlacedMesh& mesh, const Rgb& albedo, const std::optional<Mi
 // heights are world units), and its SVBRDF f_low = T S f'_low (prefilter/prefiltered_brdf.h).
 void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription& field, const CurvedBase& base,
                       DetailLevels levels, RenderScene* scene, Aabb* bounds) {
-  if (!field.scaling) file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};  // f'_low alone
+  if (!field.scaling) {  // f'_low alone
+    file.surface.scaling = {{1, {Rgb::Ones()}}, {1, {Rgb::Ones()}}};
+    file.surface.stretched.clear();
+  }
   HeightFieldPlacement placement = field.placement;
   placement.height_scale = 1;
   const PlacedMesh mesh = placedMesh(file.surface.height, base, placement, verticesPerCell(field, true), &scene->notes);

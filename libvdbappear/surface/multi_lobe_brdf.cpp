@@ -56,6 +56,18 @@ Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& 
   return sum;
 }
 
+Rgb MultiLobeBrdf::onStretchedTile(const Vec3& wi, const Vec3& wo, const TileStretch& stretch,
+                                   const Vec3& coarse_normal) const {
+  const Rgb sum = projected(wi, wo, stretch);
+  if ((sum == 0).all()) return sum;
+  // |A^-1 wi| / cos theta_i = 1 / cos theta(vi), limited where the surface's own wi grazes, not
+  // where the mapped vi does (toward a sphere's poles most vi graze).
+  const Vec3 vi = stretch.toMap(wi);
+  const double mapped_length = std::abs(wi.z()) / std::max(std::abs(vi.z()), 1e-300);
+  const double coarse_weight = stretch.facetWeightOnSurface(coarse_normal.normalized());
+  return sum * (mapped_length / (limitedCosine(wi.z()) * coarse_weight));
+}
+
 Rgb MultiLobeBrdf::eval(const Vec3& wi, const Vec3& wo) const {
   if (wi.z() <= 0 || wo.z() <= 0) return Rgb::Zero();
   return projected(wi, wo) / limitedCosine(wi.z());

@@ -46,6 +46,13 @@ class MultiLobeBrdf {
   // and f_k about the stretched axis A^-T mu_k at wi and wo. Equal to projected(wi, wo) when the
   // stretch is the identity.
   Rgb projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const;
+  // Eq. (4.5) over a stretched tile as a prefiltered model shades it on a coarse facet of normal
+  // `coarse_normal` (surface/tile_stretch.h; either side): the lobes' facets each weighed, the
+  // coarse facet's weight |A^T n_c| divided out, and 1 / cos theta(vi) = |A^-1 wi| / cos theta_i,
+  // limited where the surface's own wi grazes:
+  //   projected(wi, wo, stretch) |A^-1 wi| / (limitedCosine(cos theta_i) |A^T n_c|).
+  // No horizon cut (the caller's); eval() on the square tile, up to its cut.
+  Rgb onStretchedTile(const Vec3& wi, const Vec3& wo, const TileStretch& stretch, const Vec3& coarse_normal) const;
   BrdfSample sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const;  // weight not filled
   double lobePdf(const Vec3& wo, const Vec3& wi) const;
 

@@ -32,6 +32,7 @@ class TileStretch {
   static TileStretch diagonal(double x, double y) { return TileStretch((Eigen::Matrix2d() << x, 0, 0, y).finished()); }
 
   const Eigen::Matrix2d& matrix() const { return m_; }
+  const Eigen::Matrix2d& inverse() const { return inverse_; }
   bool isIdentity() const { return identity_; }
 
   // A^-1 w normalised: the direction over the map that sees what w sees over the surface.
