@@ -498,13 +498,16 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
     lines += ["", "## Precomputation and storage (Tables 4.3-4.4)", "",
               "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
               "32-bit floats.", "",
-              "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | S range |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "\"Stretched T S\": the tables of the tiles of `--ball-stretches` (docs/displacement.md §6), made "
+              "within \"scaling s\".", "",
+              "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | "
+              "stretched T S | S range |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for t in timing_rows:
         s, b, rng = t["seconds"], t["bytes"], t["ranges"]["S"]
         lines.append(f"| {t['surface']} | {t['factor']}x | {t['scaling']} | {s['height']:.2f} | {s['ndfs']:.1f} |"
                      f" {s['scaling']:.1f} | {b['original_height']} | {b['height']} | {b['svndf']} | {b['T']} | {b['S']} |"
-                     f" {rng['min']:.2f}-{rng['max']:.2f} |")
+                     f" {b.get('stretched_tables', 0)} | {rng['min']:.2f}-{rng['max']:.2f} |")
     lines += ["", "## Images", "", "Each `*_sbs.png`: reference | model | signed relative error (red brighter, blue "
               "darker, saturated at 50%)."]
     for r in rows:
