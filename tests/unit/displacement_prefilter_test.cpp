@@ -8,6 +8,7 @@
 
 #include "support/chi2_test.h"
 #include "support/height_fields.h"
+#include "support/prefilter_settings.h"
 #include "support/test_random.h"
 #include "support/temp_dir.h"
 
@@ -25,23 +26,12 @@
 namespace vdbappear {
 namespace {
 
-DisplacementPrefilterSettings smallSettings() {
-  DisplacementPrefilterSettings s;
-  s.factor = 8;
-  s.samples_per_side = 8;
-  s.factorization.spatial_resolution = 2;
-  s.factorization.angular_resolution = 3;
-  s.factorization.pairs_per_spatial_bin = 20;
-  s.factorization.positions_per_angular_bin = 4;
-  return s;
-}
-
 TEST(DisplacementPrefilter, FlatMapNeedsNoScaling) {
   HeightField flat(32, 32, 0.01);
   for (int j = 0; j <= 32; ++j)
     for (int i = 0; i <= 32; ++i) flat.at(i, j) = 0.05;
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredSurface p = prefilterDisplacement(flat, base, smallSettings());
+  const PrefilteredSurface p = prefilterDisplacement(flat, base, test::smallPrefilterSettings());
   EXPECT_EQ(p.height.cellsX(), 4);
   EXPECT_EQ(p.ndfs.size(), 16u);
   for (const Rgb& t : p.scaling.T.values) EXPECT_LT((t - 1).abs().maxCoeff(), 1e-3) << t.transpose();
@@ -67,7 +57,7 @@ double interreflectionGain(const HeightField& map, const MicrofacetBrdf& base, D
 TEST(DisplacementPrefilter, InterreflectionOnlyAddsLight) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   // Albedo 0.8 on slopes near 1: a visible share of the light bounces. Measured: 1.16 on average.
   EXPECT_GT(interreflectionGain(bumpy, base, s, true), 1.05);
   // With the jackknife on S's bins (a different non-linear function of the 4 positions in each bin,
@@ -83,7 +73,7 @@ TEST(DisplacementPrefilter, InterreflectionOnlyAddsLight) {
 TEST(DisplacementPrefilter, PositionsInOneCellAreIndependentEstimates) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   s.factor = 32;
   s.samples_per_side = 4;
   s.scaling = ScalingKind::Shadowing;
@@ -112,7 +102,7 @@ TEST(DisplacementPrefilter, PositionsInOneCellAreIndependentEstimates) {
 
 TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   s.factor = 6;
   EXPECT_THROW(prefilterDisplacement(HeightField(32, 32, 0.01), base, s), std::invalid_argument);
 }
@@ -125,7 +115,7 @@ TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
 TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, smallSettings()), base, PrefilteredBrdf::Base::kCurved);
+  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, test::smallPrefilterSettings()), base, PrefilteredBrdf::Base::kCurved);
   const Point2 x(0.3, 0.6);
   test::TestRandom random(5);
   std::uint64_t seed = 40;
@@ -175,7 +165,7 @@ TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
 TEST(PrefilteredSurfaceFile, RoundTripsAndRefusesBrokenSets) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::Beckmann, 0.25), Rgb(0.9, 0.5, 0.2), Rgb(0.1, 0.2, 0.3));
-  PrefilteredSurfaceFile written{prefilterDisplacement(bumpy, base, smallSettings()), base, {"map.exr", 8, 0.32, 2.0, ScalingKind::Shadowing}};
+  PrefilteredSurfaceFile written{prefilterDisplacement(bumpy, base, test::smallPrefilterSettings()), base, {"map.exr", 8, 0.32, 2.0, ScalingKind::Shadowing}};
   const test::TempDir dir;
   const std::string manifest = dir.path("bumpy_8x.json");
   writePrefilteredSurface(written, manifest, {{"seed", 1}});

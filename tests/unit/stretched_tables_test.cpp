@@ -8,6 +8,7 @@
 #include "libvdbappear/util/error.h"
 
 #include "support/height_fields.h"
+#include "support/prefilter_settings.h"
 #include "support/temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -25,17 +26,6 @@ namespace {
 const MicrofacetBrdf& testBase() {
   static const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
   return base;
-}
-
-DisplacementPrefilterSettings smallSettings() {
-  DisplacementPrefilterSettings s;
-  s.factor = 8;
-  s.samples_per_side = 8;
-  s.factorization.spatial_resolution = 2;
-  s.factorization.angular_resolution = 3;
-  s.factorization.pairs_per_spatial_bin = 20;
-  s.factorization.positions_per_angular_bin = 4;
-  return s;
 }
 
 // Points above base positions and the points rays meet are the map's stretched, and each keeps the
@@ -65,7 +55,7 @@ TEST(StretchedTables, FlatMapNeedsNoScalingOnAnyTile) {
   HeightField flat(32, 32, 0.01);
   for (int j = 0; j <= 32; ++j)
     for (int i = 0; i <= 32; ++i) flat.at(i, j) = 0.05;
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   s.stretches = {TileStretch::diagonal(0.5, 1), TileStretch::diagonal(0.3, 1.2)};
   for (ScalingKind kind : {ScalingKind::Shadowing, ScalingKind::Interreflection}) {
     s.scaling = kind;
@@ -82,7 +72,7 @@ TEST(StretchedTables, FlatMapNeedsNoScalingOnAnyTile) {
 // do see the stretch).
 TEST(StretchedTables, BumpyMapsTablesDependOnTheTile) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   s.scaling = ScalingKind::Shadowing;
   s.stretches = {TileStretch::diagonal(0.4, 1)};
   const PrefilteredSurface p = prefilterDisplacement(bumpy, testBase(), s);
@@ -135,7 +125,7 @@ TEST(StretchedTables, ModelReadsTheNearestTablesAndBlendsContinuously) {
 
 TEST(StretchedTables, RoundTripThroughTheFilesAndRefuseABrokenStretch) {
   const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
-  DisplacementPrefilterSettings s = smallSettings();
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
   s.scaling = ScalingKind::Shadowing;
   s.stretches = {TileStretch::diagonal(0.6, 1), TileStretch::diagonal(0.3, 1)};
   PrefilteredSurfaceFile written{prefilterDisplacement(bumpy, testBase(), s), testBase(), {"map.exr", 8, 0.32, 1.0, ScalingKind::Shadowing}};

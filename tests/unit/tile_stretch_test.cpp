@@ -111,6 +111,19 @@ TEST(TileStretch, StretchedMapsEffectiveBrdfIsTheMapsAtMappedDirections) {
   }
 }
 
+// R (single bounce) at `paths_side`^2 paths per estimate, into S of N^2 x N^2 bins (16 positions
+// each) and one T bin.
+DisplacementPrefilterSettings shadowingSettings(int paths_side, int N) {
+  DisplacementPrefilterSettings settings;
+  settings.scaling = ScalingKind::Shadowing;
+  settings.samples_per_side = paths_side;
+  settings.factorization.spatial_resolution = 1;
+  settings.factorization.angular_resolution = N;
+  settings.factorization.pairs_per_spatial_bin = 100;
+  settings.factorization.positions_per_angular_bin = 16;
+  return settings;
+}
+
 // h_low's bilinear surface squeezed along x by `squeeze`, sampled at cells of side `cell` (finer than
 // h_low's, so that two triangles per cell follow the bilinear surface whether squeezed or not).
 HeightField bilinearSqueezed(const HeightField& low, double cell, double squeeze) {
@@ -137,14 +150,7 @@ TEST(TileStretch, PrefilteredModelOfASqueezedTileIsAsCloseAsOfTheSquare) {
   const double cell = 1.0 / 64;
   const HeightField fine = sampled(192, 192, cell, 1);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb::Constant(0.04), Rgb(0.7, 0.55, 0.4));
-  DisplacementPrefilterSettings settings;
-  settings.scaling = ScalingKind::Shadowing;
-  settings.samples_per_side = 8;
-  settings.factorization.spatial_resolution = 1;
-  settings.factorization.angular_resolution = 5;
-  settings.factorization.pairs_per_spatial_bin = 100;
-  settings.factorization.positions_per_angular_bin = 16;
-  const PrefilteredSurface surface = prefilterDisplacement(fine, base, settings);
+  const PrefilteredSurface surface = prefilterDisplacement(fine, base, shadowingSettings(8, 5));
   const PrefilteredBrdf model(surface, base, PrefilteredBrdf::Base::kPlane);
   const TileStretch stretch = TileStretch::diagonal(0.5, 1);
   const MicroGeometry original(fine), low(bilinearSqueezed(surface.height, 1.0 / 32, 1));
@@ -192,13 +198,7 @@ TEST(TileStretch, TablesMadeForASqueezedTileFitItAsTheSquaresFitTheSquare) {
   const HeightField fine = sampled(192, 192, cell, TileStretch(), 0.5);
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb::Constant(0.04), Rgb(0.7, 0.55, 0.4));
   const TileStretch stretch = TileStretch::diagonal(0.5, 1);
-  DisplacementPrefilterSettings settings;
-  settings.scaling = ScalingKind::Shadowing;
-  settings.samples_per_side = 16;
-  settings.factorization.spatial_resolution = 1;
-  settings.factorization.angular_resolution = 9;
-  settings.factorization.pairs_per_spatial_bin = 100;
-  settings.factorization.positions_per_angular_bin = 16;
+  DisplacementPrefilterSettings settings = shadowingSettings(16, 9);
   settings.stretches = {stretch};
   const PrefilteredSurface surface = prefilterDisplacement(fine, base, settings);
   ASSERT_EQ(surface.stretched.size(), 1u);
