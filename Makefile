@@ -119,8 +119,9 @@ subsurface: build
 # Displacement-map prefiltering (issue 23): reference, naive, multi-lobe and full models of three
 # procedural surfaces, a ball and a torus at two scales and at each one's scale in the chapter
 # (Table 4.3), under direct light and global illumination; equal time; storage. At the n15 rates
-# (the default) it takes about three hours on 2 cores, estimated from its sections timed separately
-# (the ball's sections 1-2 at 1K^2, since 2026-11-30: 29 minutes).
+# (the default) it takes about four hours on 2 cores, estimated from its sections timed separately
+# (the ball's sections 1-2 at 1K^2 with its squeezed tiles' tables, since 2026-11-30: about 100
+# minutes; 29 with the square tile's tables alone, --ball-stretches "").
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR)
 

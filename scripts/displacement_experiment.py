@@ -3,7 +3,7 @@
 
 For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
 "ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
-Fig. 4.18; "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs), each
+Fig. 4.18, its models with the tables of its tiles squeezed toward the poles (--ball-stretches); "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs), each
 downsampling factor of --factors and the surface's own scale in the chapter (Table 4.3: woven 8x as
 the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-chapter-scales):
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
@@ -44,7 +44,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -550,9 +550,10 @@ def main():
     parser.add_argument("--lod-spp-ref", type=int, default=2048)
     parser.add_argument("--ball-cells", type=int, default=1024,
                         help="of the ball's map (the issue's 1K; 256: §9's earlier ball, whose factors cover more of a bump)")
-    parser.add_argument("--ball-stretches", default="",
+    parser.add_argument("--ball-stretches", default="0.75,0.5,0.3",
                         help="the ball's tables also for its tiles squeezed east-west to these widths (its cosines of "
-                             "latitude, e.g. 0.75,0.5,0.3; docs/displacement.md §6); empty: the square tile's alone")
+                             "latitude; docs/displacement.md §6, §9); empty: the square tile's alone (a quarter of "
+                             "the ball's precomputation)")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
