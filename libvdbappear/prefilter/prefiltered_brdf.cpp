@@ -3,6 +3,8 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <cmath>
 #include <stdexcept>
 
@@ -33,20 +35,22 @@ Rgb PrefilteredBrdf::scalingOnTile(const Point2& x, const Vec3& wi, const Vec3& 
     return table.scaling(x, residual.toMap(wi), residual.toMap(wo));
   };
   if (tables_.size() == 1) return read(tables_.front(), stretch);
+  // The three nearest tables, kept in order as the tables are read (no allocation: this runs at
+  // every shading point).
   struct Candidate {
-    double distance;
-    std::size_t table;
+    double distance = std::numeric_limits<double>::infinity();
+    std::size_t table = 0;
     TileStretch residual;
   };
-  std::vector<Candidate> nearest;
+  std::array<Candidate, 3> nearest;
   for (std::size_t k = 0; k < tables_.size(); ++k) {
-    const TileStretch residual(stretch.matrix() * tables_[k].stretch.inverse());
-    nearest.push_back({residualDistance(residual), k, residual});
+    Candidate c{0, k, TileStretch(stretch.matrix() * tables_[k].stretch.inverse())};
+    c.distance = residualDistance(c.residual);
+    for (Candidate& slot : nearest)
+      if (c.distance < slot.distance) std::swap(c, slot);
   }
-  std::partial_sort(nearest.begin(), nearest.begin() + std::min<std::size_t>(3, nearest.size()), nearest.end(),
-                    [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
   if (nearest[0].distance <= 1e-12) return read(tables_[nearest[0].table], nearest[0].residual);
-  const double beyond = nearest.size() > 2 ? 1 / nearest[2].distance : 0;
+  const double beyond = 1 / nearest[2].distance;  // 0 with two tables
   const double w0 = 1 / nearest[0].distance - beyond, w1 = std::max(1 / nearest[1].distance - beyond, 0.0);
   return (read(tables_[nearest[0].table], nearest[0].residual) * w0 +
           read(tables_[nearest[1].table], nearest[1].residual) * w1) / (w0 + w1);
