@@ -137,6 +137,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"bias_correction", f.jackknife ? "jackknife" : "none"},
       {"shared_positions", f.shared_positions},
       {"max_theta_degrees", f.max_theta_degrees},
+      {"view_horizon_degrees", f.view_horizon_degrees},
       {"stretches", o.stretches},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
@@ -146,12 +147,14 @@ int prefilter(const Options& o, const std::string& history) {
   const nlohmann::json ranges = {{"T", tableRange(p.scaling.T.values)}, {"S", tableRange(p.scaling.S.values)}};
   if (o.verbose)
     fmt::print(stderr,
-               "{}: {} -> {}: {} x {} cells -> {} x {} (factor {}), {} lobes per cell, T {}^2, S {}^4\n"
+               "{}: {} -> {}: {} x {} cells -> {} x {} (factor {}), {} lobes per cell, T {}^2, S {}^4{}\n"
                "{}: bytes: original {}, h_low {}, SVNDF {}, T {}, S {}\n"
                "{}: seconds: read {:.2f}, h_low {:.2f}, NDFs {:.2f}, scaling {:.2f}, write {:.2f}\n"
                "{}: T {:.3g} to {:.3g}, S {:.3g} to {:.3g} (mean {:.3g})\n",
                kTool, o.input, o.output, fine.cellsX(), fine.cellsY(), p.height.cellsX(), p.height.cellsY(),
-               settings.factor, settings.ndf.lobes, f.spatial_resolution, f.angular_resolution, kTool,
+               settings.factor, settings.ndf.lobes, f.spatial_resolution, f.angular_resolution,
+               f.view_horizon_degrees > 0 ? fmt::format(" and the view's horizon at {} degrees", f.view_horizon_degrees) : "",
+               kTool,
                bytes["original_height"].get<std::size_t>(), bytes["height"].get<std::size_t>(),
                bytes["svndf"].get<std::size_t>(), bytes["T"].get<std::size_t>(), bytes["S"].get<std::size_t>(), kTool,
                read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds, kTool,
@@ -232,6 +235,11 @@ int main(int argc, char** argv) {
   app.add_option("--max-theta", s.factorization.max_theta_degrees,
                  "polar angle (degrees) beyond which R is evaluated at this angle (footnote 5)")
       ->check(CLI::Range(1.0, 89.0))
+      ->capture_default_str();
+  app.add_option("--view-horizon", s.factorization.view_horizon_degrees,
+                 "S also at views on the horizon, R evaluated at this polar angle (degrees), read beyond S's "
+                 "outermost bins (83 degrees at N = 15) instead of their values; 0: none (docs/displacement.md §6)")
+      ->check(CLI::Range(0.0, 89.9))
       ->capture_default_str();
   app.add_option("--stretch", o.stretches,
                  "also the scaling tables of the tile stretched to SX (along x) by SY (along y), for each "

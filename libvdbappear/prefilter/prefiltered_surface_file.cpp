@@ -63,16 +63,16 @@ ImageChannels lobeImage(const std::vector<VmfMixture>& ndfs, int cells_x, int ce
   return image;
 }
 
-ImageChannels rgbTable(const std::vector<Rgb>& values, int side) {
-  ImageChannels image = emptyImage(side, side, {"R", "G", "B"});
-  for (int row = 0; row < side; ++row)
-    for (int column = 0; column < side; ++column)
-      for (int c = 0; c < 3; ++c) pixel(image, column, row, c) = float(values[std::size_t(row) * side + column][c]);
+ImageChannels rgbTable(const std::vector<Rgb>& values, int width, int height) {
+  ImageChannels image = emptyImage(width, height, {"R", "G", "B"});
+  for (int row = 0; row < height; ++row)
+    for (int column = 0; column < width; ++column)
+      for (int c = 0; c < 3; ++c) pixel(image, column, row, c) = float(values[std::size_t(row) * width + column][c]);
   return image;
 }
 
-// T's bin (a, b) is pixel (a, M - 1 - b); S's bin (wi bin ia + N ib, wo bin oa + N ob) is pixel
-// (column oa + N ob, row ia + N ib).
+// T's bin (a, b) is pixel (a, M - 1 - b); S's bin (wi bin ia + N ib, wo node oa + V ob) is pixel
+// (column oa + V ob, row ia + N ib), V = N, or N + 2 with the view's horizon nodes.
 std::vector<Rgb> spatialRows(const SpatialScaling& T) {
   const int M = T.resolution;
   std::vector<Rgb> rows(T.values.size());
@@ -81,8 +81,10 @@ std::vector<Rgb> spatialRows(const SpatialScaling& T) {
   return rows;
 }
 
-ImageChannels spatialImage(const SpatialScaling& T) { return rgbTable(spatialRows(T), T.resolution); }
-ImageChannels angularImage(const AngularScaling& S) { return rgbTable(S.values, S.resolution * S.resolution); }
+ImageChannels spatialImage(const SpatialScaling& T) { return rgbTable(spatialRows(T), T.resolution, T.resolution); }
+ImageChannels angularImage(const AngularScaling& S) {
+  return rgbTable(S.values, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
+}
 
 Rgb pixelRgb(const ImageChannels& image, int column, int row) {
   return {pixel(image, column, row, 0), pixel(image, column, row, 1), pixel(image, column, row, 2)};
@@ -96,11 +98,13 @@ SpatialScaling spatialTable(const ImageChannels& image, int M) {
   return T;
 }
 
-AngularScaling angularTable(const ImageChannels& image, int N) {
+AngularScaling angularTable(const ImageChannels& image, int N, bool view_horizon) {
   AngularScaling S;
   S.resolution = N;
+  S.view_horizon = view_horizon;
+  const int V = S.viewNodes();
   for (int row = 0; row < N * N; ++row)
-    for (int column = 0; column < N * N; ++column) S.values.push_back(pixelRgb(image, column, row));
+    for (int column = 0; column < V * V; ++column) S.values.push_back(pixelRgb(image, column, row));
   return S;
 }
 
@@ -166,6 +170,7 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
                          {"scaling", scalingName(file.info.scaling)},
                          {"spatial_resolution", s.scaling.T.resolution},
                          {"angular_resolution", s.scaling.S.resolution},
+                         {"view_horizon", s.scaling.S.view_horizon},
                          {"files", files},
                          {"stretched", stretched},
                          {"settings", extra}};
@@ -222,8 +227,11 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
           s.ndfs[std::size_t(u) + std::size_t(cells_x) * v].lobes.push_back({c(0), c(1), Vec3(c(2), c(3), c(4)).normalized()});
         }
     }
+    const bool view_horizon = m.value("view_horizon", false);  // wo's horizon nodes (S's width (N + 2)^2)
+    const int V = view_horizon ? N + 2 : N;
     const auto tables = [&](const std::string& T_path, const std::string& S_path) {
-      return FactorizedScaling{spatialTable(readPart(T_path, M, M, 3), M), angularTable(readPart(S_path, N * N, N * N, 3), N)};
+      return FactorizedScaling{spatialTable(readPart(T_path, M, M, 3), M),
+                               angularTable(readPart(S_path, V * V, N * N, 3), N, view_horizon)};
     };
     s.scaling = tables(part("T"), part("S"));
     for (const json& table : m.value("stretched", json::array())) {

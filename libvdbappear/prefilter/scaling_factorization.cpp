@@ -75,11 +75,12 @@ Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, const ScalingSamp
 }
 
 // S's bin: R at the bins' directions over positions stratified over the whole map, one per stratum.
-Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::size_t bin, int cells_x, int cells_y,
+// `key` keys its random numbers.
+Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::int64_t key, int cells_x, int cells_y,
                const FactorizationSettings& s) {
   const int count = s.positions_per_angular_bin;
   const Strata strata(count);
-  RandomStream rng(s.seed, {1, std::int64_t(bin)});
+  RandomStream rng(s.seed, {1, key});
   ScalingSample sum;
   std::vector<ScalingSample> samples;  // kept for the jackknife only
   if (s.jackknife) samples.reserve(std::size_t(count));
@@ -95,11 +96,11 @@ Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::siz
 
 // With shared_positions, S's bins of one wo (bin wo_bin): R at every wi bin's direction over the same positions, stratified
 // over the whole map, drawn from a stream keyed by the wo bin; out[k] for wis[k].
-void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis, const Vec3& wo, std::size_t wo_bin,
+void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis, const Vec3& wo, std::int64_t wo_key,
                        int cells_x, int cells_y, const FactorizationSettings& s, Rgb* out) {
   const int count = s.positions_per_angular_bin;
   const Strata strata(count);
-  RandomStream rng(s.seed, {2, std::int64_t(wo_bin)});
+  RandomStream rng(s.seed, {2, wo_key});
   std::vector<ScalingSample> sums(wis.size()), batch(wis.size());
   std::vector<std::vector<ScalingSample>> samples(s.jackknife ? wis.size() : 0);  // for the jackknife only
   for (auto& bin : samples) bin.reserve(std::size_t(count));
@@ -116,6 +117,27 @@ void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis
     out[w] = s.jackknife ? jackknifedRatio(samples[w], sums[w], s.epsilon) : ratio(sums[w], s.epsilon);
 }
 
+// wo's node (oa, ob) of S (a bin centre, or with view_horizon one on the horizon), its polar angle
+// limited (horizon nodes to view_horizon_degrees).
+struct ViewNode {
+  Vec3 wo;
+  bool on_horizon;
+};
+ViewNode viewNode(const AngularScaling& S, int oa, int ob, const FactorizationSettings& s) {
+  ViewNode node{};
+  const Vec3 w = S.viewNodeDirection(oa, ob, &node.on_horizon);
+  node.wo = limitPolarAngle(w, (node.on_horizon ? s.view_horizon_degrees : s.max_theta_degrees) * kPi / 180);
+  return node;
+}
+
+// The key of S's entry (ia, ib, oa, ob)'s random numbers: a bin's index without horizon nodes, so
+// that the bins read the same with or without them; a horizon node's its index past all of those.
+std::int64_t angularKey(const AngularScaling& S, int ia, int ib, int oa, int ob, bool on_horizon) {
+  const std::int64_t N = S.resolution, shift = S.view_horizon ? 1 : 0;
+  if (on_horizon) return N * N * N * N + std::int64_t(S.index(ia, ib, oa, ob));
+  return ((ib * N + ia) * N + (ob - shift)) * N + (oa - shift);
+}
+
 }  // namespace
 
 Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
@@ -128,7 +150,8 @@ Vec3 limitPolarAngle(const Vec3& w, double max_theta) {
 
 std::uint64_t tableBins(const FactorizationSettings& s) {
   const std::uint64_t M = std::uint64_t(s.spatial_resolution), N = std::uint64_t(s.angular_resolution);
-  return M * M + N * N * N * N;
+  const std::uint64_t V = s.view_horizon_degrees > 0 ? N + 2 : N;
+  return M * M + N * N * V * V;
 }
 
 ViewScalingSampler sampledPerLight(ScalingSampler R) {
@@ -144,12 +167,16 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   if (cells_x < 1 || cells_y < 1 || s.spatial_resolution < 1 || s.angular_resolution < 1 ||
       s.pairs_per_spatial_bin < 1 || s.positions_per_angular_bin < 1)
     throw std::invalid_argument("factorizeScaling: empty map, table or sample count");
+  if (!(s.view_horizon_degrees >= 0 && s.view_horizon_degrees < 90))
+    throw std::invalid_argument("factorizeScaling: the view's horizon nodes at 0 (none) or below 90 degrees");
   const int M = s.spatial_resolution, N = s.angular_resolution;
   FactorizedScaling result;
   result.T.resolution = M;
   result.T.values.assign(std::size_t(M) * M, Rgb::Zero());
   result.S.resolution = N;
-  result.S.values.assign(std::size_t(N) * N * N * N, Rgb::Zero());
+  result.S.view_horizon = s.view_horizon_degrees > 0;
+  const int V = result.S.viewNodes();
+  result.S.values.assign(std::size_t(N) * N * V * V, Rgb::Zero());
 
   tbb::parallel_for(std::size_t(0), result.T.values.size(), [&](std::size_t bin) {
     result.T.values[bin] = spatialBin(R, int(bin % M), int(bin / M), cells_x, cells_y, s);
@@ -164,11 +191,11 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   const double max_theta = s.max_theta_degrees * kPi / 180;
   if (!s.shared_positions) {
     tbb::parallel_for(std::size_t(0), result.S.values.size(), [&](std::size_t bin) {
-      const int oa = int(bin % N), ob = int(bin / N % N), ia = int(bin / (N * N) % N), ib = int(bin / (std::size_t(N) * N * N));
+      const int oa = int(bin % V), ob = int(bin / V % V), ia = int(bin / (V * V) % N), ib = int(bin / (std::size_t(V) * V * N));
       const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
-      const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
-      result.S.values[result.S.index(ia, ib, oa, ob)] =
-          angularBin(R, wi, wo, bin, cells_x, cells_y, s).min(s.max_scaling);
+      const ViewNode view = viewNode(result.S, oa, ob, s);
+      const std::int64_t key = angularKey(result.S, ia, ib, oa, ob, view.on_horizon);
+      result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, view.wo, key, cells_x, cells_y, s).min(s.max_scaling);
       if (progress) progress->advance();
     });
     return result;
@@ -177,11 +204,13 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   for (int ib = 0; ib < N; ++ib)
     for (int ia = 0; ia < N; ++ia) wis.push_back(limitPolarAngle(result.S.binDirection(ia, ib), max_theta));
   const ViewScalingSampler per_view = R_view ? R_view : sampledPerLight(R);
-  tbb::parallel_for(std::size_t(0), std::size_t(N) * N, [&](std::size_t wo_bin) {
-    const int oa = int(wo_bin % N), ob = int(wo_bin / N);
-    const Vec3 wo = limitPolarAngle(result.S.binDirection(oa, ob), max_theta);
+  tbb::parallel_for(std::size_t(0), std::size_t(V) * V, [&](std::size_t wo_node) {
+    const int oa = int(wo_node % V), ob = int(wo_node / V);
+    const ViewNode view = viewNode(result.S, oa, ob, s);
+    // wo's key: as angularKey() keys a bin of wi bin 0 (its bin without horizon nodes, or past them).
+    const std::int64_t key = angularKey(result.S, 0, 0, oa, ob, view.on_horizon);
     std::vector<Rgb> values(wis.size());
-    angularBinsOfView(per_view, wis, wo, wo_bin, cells_x, cells_y, s, values.data());
+    angularBinsOfView(per_view, wis, view.wo, key, cells_x, cells_y, s, values.data());
     for (int ib = 0; ib < N; ++ib)
       for (int ia = 0; ia < N; ++ia)
         result.S.values[result.S.index(ia, ib, oa, ob)] = values[std::size_t(ia + N * ib)].min(s.max_scaling);

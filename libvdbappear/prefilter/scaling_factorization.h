@@ -54,6 +54,9 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   // 75 the bins toward the horizon over-lit a white furnace of white bumps (rendered albedo 1.049
   // with N = 9 against the original's 0.982; at 89 degrees 1.022).
   double max_theta_degrees = 89;
+  // With a polar angle here (degrees, below 90), S also has nodes of wo on the horizon, its values
+  // R at this angle (AngularScaling::view_horizon); 0: none, S clamped beyond its outermost bins.
+  double view_horizon_degrees = 0;
   double epsilon = 1e-6;  // footnote 2: added to both sums of a bin, so that 0 / 0 gives 1
   // The most an S bin may scale: where the prefiltered model reflects almost nothing of what the
   // original does (a coarse map that the light grazes, all in shadow, while the original's peaks
@@ -81,7 +84,7 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
                                    const FactorizationSettings& settings, ProgressBar* progress = nullptr,
                                    const ViewScalingSampler& R_view = {});
 
-// The bins of T and S together: M^2 + N^4.
+// The bins of T and S together: M^2 + N^4, or M^2 + N^2 (N + 2)^2 with the view's horizon nodes.
 std::uint64_t tableBins(const FactorizationSettings& settings);
 
 // w with its polar angle limited to max_theta (radians), keeping its azimuth.

@@ -20,6 +20,16 @@ AxisWeights axisWeights(double s, int N) {
   return {i0, std::min(i0 + 1, N - 1), c - i0};
 }
 
+// The same with nodes at the edges besides the N bin centres: node 0 at s = 0, node k at bin
+// k - 1's centre (k - 0.5) / N, node N + 1 at s = 1.
+AxisWeights edgeAxisWeights(double s, int N) {
+  const double half = 0.5 / N;
+  s = std::clamp(s, 0.0, 1.0);
+  const double c = s < half ? s / half : s > 1 - half ? N + (s - (1 - half)) / half : s * N + 0.5;
+  const int i0 = std::min(int(c), N);
+  return {i0, i0 + 1, c - i0};
+}
+
 }  // namespace
 
 Rgb SpatialScaling::operator()(const Point2& x) const {
@@ -34,8 +44,11 @@ Point2 SpatialScaling::binCentre(int a, int b) const { return {(a + 0.5) / resol
 Rgb AngularScaling::operator()(const Vec3& wi, const Vec3& wo) const {
   const Point2 si = hemisphereToSquare(Vec3(wi.x(), wi.y(), std::max(0.0, wi.z())).normalized());
   const Point2 so = hemisphereToSquare(Vec3(wo.x(), wo.y(), std::max(0.0, wo.z())).normalized());
-  const AxisWeights axes[4] = {axisWeights(si.x(), resolution), axisWeights(si.y(), resolution),
-                               axisWeights(so.x(), resolution), axisWeights(so.y(), resolution)};
+  const auto view_axis = [&](double s) {
+    return view_horizon ? edgeAxisWeights(s, resolution) : axisWeights(s, resolution);
+  };
+  const AxisWeights axes[4] = {axisWeights(si.x(), resolution), axisWeights(si.y(), resolution), view_axis(so.x()),
+                               view_axis(so.y())};
   Rgb sum = Rgb::Zero();
   for (int corner = 0; corner < 16; ++corner) {  // the 16 bin centres around (wi, wo)
     int i[4];
@@ -52,6 +65,18 @@ Rgb AngularScaling::operator()(const Vec3& wi, const Vec3& wo) const {
 
 Vec3 AngularScaling::binDirection(int a, int b) const {
   return squareToHemisphere({(a + 0.5) / resolution, (b + 0.5) / resolution});
+}
+
+Vec3 AngularScaling::viewNodeDirection(int oa, int ob, bool* on_horizon) const {
+  if (!view_horizon) {
+    *on_horizon = false;
+    return binDirection(oa, ob);
+  }
+  const int N = resolution;
+  const auto position = [N](int k) { return k == 0 ? 0.0 : k == N + 1 ? 1.0 : (k - 0.5) / N; };
+  *on_horizon = oa == 0 || ob == 0 || oa == N + 1 || ob == N + 1;
+  const Vec3 w = squareToHemisphere({position(oa), position(ob)});
+  return *on_horizon ? Vec3(w.x(), w.y(), 0).normalized() : w;
 }
 
 }  // namespace vdbappear

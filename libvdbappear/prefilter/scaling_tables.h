@@ -24,15 +24,26 @@ struct SpatialScaling {
 
 // S_ir(wi, wo) on N^2 bins of the concentric square of wi times N^2 of wo; directions in the
 // macro-surface's frame (n = +z).
+//
+// With view_horizon, wo has N + 2 nodes along each axis of its square: the N bin centres and the
+// square's two edges, where wo lies on the horizon (docs/displacement.md §6, "The view's horizon").
+// Beyond the outermost bin centres (83 degrees at N = 15) S is then read toward its value at the
+// horizon instead of clamped: grazing views, which Eq. (4.5) weighs by alpha_k alone, not by the
+// visible projected area <mu_k, wo> / cos theta_o that the original shows them.
 struct AngularScaling {
-  int resolution = 1;        // N
-  std::vector<Rgb> values;   // bin (wi bin (ia, ib), wo bin (oa, ob)) at index(ia, ib, oa, ob)
+  int resolution = 1;         // N
+  bool view_horizon = false;  // wo's edge nodes
+  std::vector<Rgb> values;    // (wi bin (ia, ib), wo node (oa, ob)) at index(ia, ib, oa, ob)
   Rgb operator()(const Vec3& wi, const Vec3& wo) const;
+  int viewNodes() const { return view_horizon ? resolution + 2 : resolution; }  // per axis of wo's square
   std::size_t index(int ia, int ib, int oa, int ob) const {
-    const std::size_t N = resolution;
-    return ((std::size_t(ib) * N + ia) * N + ob) * N + oa;
+    const std::size_t N = resolution, V = viewNodes();
+    return ((std::size_t(ib) * N + ia) * V + ob) * V + oa;
   }
   Vec3 binDirection(int a, int b) const;  // the direction at a bin's centre
+  // wo's node (oa, ob): a bin centre, or with view_horizon on the horizon where oa or ob is an edge
+  // (0 or N + 1; bin k is node k + 1). `on_horizon` tells which.
+  Vec3 viewNodeDirection(int oa, int ob, bool* on_horizon) const;
 };
 
 struct FactorizedScaling {

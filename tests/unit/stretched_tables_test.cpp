@@ -88,7 +88,7 @@ PrefilteredSurface constantTables() {
   p.height = HeightField(2, 2, 0.5);
   p.ndfs.assign(4, VmfMixture{{{1.0, 1e4, Vec3::UnitZ()}}});
   const auto constant = [](double value) {
-    return FactorizedScaling{{1, {Rgb::Ones()}}, {1, {Rgb::Constant(value)}}};
+    return FactorizedScaling{{1, {Rgb::Ones()}}, {1, false, {Rgb::Constant(value)}}};
   };
   p.scaling = constant(1);
   p.stretched = {{TileStretch::diagonal(0.5, 1), constant(2)}, {TileStretch::diagonal(0.25, 1), constant(4)}};
