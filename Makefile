@@ -121,7 +121,8 @@ subsurface: build
 # (Table 4.3), under direct light and global illumination; equal time; storage. At the n15 rates
 # (the default) it takes about four hours on 2 cores, estimated from its sections timed separately
 # (the ball's sections 1-2 at 1K^2 with its squeezed tiles' tables, since 2026-11-30: about 100
-# minutes; 29 with the square tile's tables alone, --ball-stretches "").
+# minutes, and some 28% more of its and the torus's tables for S up to the view's horizon,
+# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches "").
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR)
 

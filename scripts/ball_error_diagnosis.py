@@ -10,8 +10,12 @@ tables and images of a `displacement_experiment.py` run that measured the ball (
              with the same tables: is the model right at those angles where tiles are square?
 3. rotated   the ball with its camera and sun turned together about its centre, so that the
              crescent's light-weighted centre lies on the equator, where the tiles are square.
+4. rim       the pixels past the base sphere's silhouette (sphere_regions.py's rim) by how far past
+             it their camera ray passes (in radii; the farther, the more the view grazes the h_low
+             it meets), under direct light: the share of the reference's light, naive and full.
 
-Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--build build] [--spp-ref 1024] [--spp 128]
+Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--checks latitude,plane,rotated,rim]
+        [--build build] [--spp-ref 1024] [--spp 128]
 Prints one line per measurement; writes its scenes, images and masks into OUT (prefixed diag_)."""
 import argparse
 import json
@@ -23,6 +27,8 @@ import displacement_experiment as experiment
 import pinhole_pixels
 
 LATITUDE_BANDS = [(-90, 20), (20, 40), (40, 55), (55, 70), (70, 90.1)]
+# How far past the base sphere's silhouette a camera ray passes, in radii.
+RIM_BANDS = [(0, 0.005), (0.005, 0.01), (0.01, 0.015), (0.015, 0.02), (0.02, 1)]
 # (theta_i, theta_o, azimuth between wi and wo), degrees: the crescent's median first, then its
 # spread toward other views and lights.
 PLANE_ANGLES = [(60, 65, 150), (60, 65, 90), (60, 65, 30), (30, 75, 150), (60, 80, 150), (50, 50, 150)]
@@ -91,6 +97,31 @@ def by_latitude(args, out, factor):
               f"{errors['naive']:+.2%}, full {errors['full']:+.2%}", flush=True)
 
 
+def rim(args, out, factor):
+    camera, radius = experiment.BALL["camera"], experiment.BALL_RADIUS
+    width, height = [int(v) for v in args.res.split("x")]
+    bands = {band: set() for band in RIM_BANDS}
+    for x, y, origin, d in pinhole_pixels.pixel_rays(camera["position"], camera["target"], camera["up"],
+                                                     camera["fov"], width, height):
+        b, c = _dot(origin, d), _dot(origin, origin) - radius * radius
+        if b * b - c >= 0:
+            continue
+        past = math.sqrt(c + radius * radius - b * b) / radius - 1  # the ray's closest approach, less the radius
+        bands[next(band for band in RIM_BANDS if band[0] <= past < band[1])].add((x, y))
+    reference = out / "ball_direct_reference.exr"
+    whole = experiment.compare(args.build, reference, reference)["mean_reference"]
+    for band, pixels in bands.items():
+        if not pixels:
+            continue
+        mask = out / f"diag_rim_{band[0]}.pfm"
+        pinhole_pixels.write_mask_pfm(mask, width, height, pixels)
+        share = experiment.compare(args.build, reference, reference, mask=mask)["mean_reference"] * len(pixels) / (
+            whole * width * height)
+        errors = {m: _error(args, reference, out / f"ball_{factor}x_direct_{m}.exr", mask) for m in ("naive", "full")}
+        print(f"{factor}x rim, {band[0]:.3f} to {min(band[1], 1):.3f} radii past the silhouette: {len(pixels)} pixels, "
+              f"{share:.1%} of the light, naive {errors['naive']:+.2%}, full {errors['full']:+.2%}", flush=True)
+
+
 def on_a_plane(args, out, factor):
     tiles, manifest = 6, f"ball_{factor}x_shadowing.json"
     centre = [tiles / 2, tiles / 2, 0]
@@ -142,6 +173,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", help="a displacement_experiment.py output directory that holds the ball")
     parser.add_argument("--factors", default="8,32")
+    parser.add_argument("--checks", default="latitude,plane,rotated,rim", help="of latitude, plane, rotated, rim")
     parser.add_argument("--build", default="build")
     parser.add_argument("--res", default="192x144", help="the experiment's --res")
     parser.add_argument("--spp-ref", type=int, default=1024)
@@ -149,10 +181,13 @@ def main():
     args = parser.parse_args()
     args.build = pathlib.Path(args.build).resolve()
     out = pathlib.Path(args.out)
+    checks = {"latitude": by_latitude, "plane": on_a_plane, "rotated": rotated, "rim": rim}
+    chosen = args.checks.split(",")
+    if not set(chosen) <= set(checks):
+        parser.error(f"--checks: of {', '.join(checks)}")
     for factor in [int(f) for f in args.factors.split(",")]:
-        by_latitude(args, out, factor)
-        on_a_plane(args, out, factor)
-        rotated(args, out, factor)
+        for name in chosen:
+            checks[name](args, out, factor)
 
 
 if __name__ == "__main__":

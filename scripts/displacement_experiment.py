@@ -3,7 +3,8 @@
 
 For each surface (woven, noise and relief maps of vdb_make_height_map at --cells^2 cells on a plane;
 "ball": its bumps map at --ball-cells^2 cells shell-mapped 8 x 4 times over a sphere, the ball of
-Fig. 4.18, its models with the tables of its tiles squeezed toward the poles (--ball-stretches); "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs), each
+Fig. 4.18, its models with the tables of its tiles squeezed toward the poles (--ball-stretches); "torus": the bumps map at --torus-cells^2 cells over a torus mesh by its UVs; on both curved bases S up to the view's horizon, which
+their rims show, --curved-view-horizon), each
 downsampling factor of --factors and the surface's own scale in the chapter (Table 4.3: woven 8x as
 the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-chapter-scales):
 1. vdb_displacement_prefilter twice: with the shadowing-and-masking scaling R (Eq. 4.12, for direct
@@ -44,7 +45,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -152,12 +153,14 @@ def same_brdf(written, brdf):
         all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
 
 
-def reusable(manifest, report, cells, factor, brdf, rates, stretches=""):
+def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
     if m.get("settings", {}).get("stretches", []) != (stretches.split(",") if stretches else []):
+        return False
+    if m.get("settings", {}).get("view_horizon_degrees", 0.0) != view_horizon:
         return False
     history = m.get("settings", {}).get("history", "")
     shared = "--shared-positions" in RATES[rates]  # n15's flags are a prefix of n15-shared's
@@ -177,10 +180,14 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     build, rates = args.build, args.rates
     # The ball's tiles narrow toward its poles: tables also for the tiles squeezed to --ball-stretches.
     stretches = args.ball_stretches if surface == "ball" else ""
-    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches):
+    # And on curved bases S up to the view's horizon, which their rims show (docs/displacement.md §6,
+    # "The view's horizon").
+    view_horizon = args.curved_view_horizon if surface in CURVED else 0.0
+    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
-            (["--stretch", stretches] if stretches else []))
+            (["--stretch", stretches] if stretches else []) +
+            (["--view-horizon", view_horizon] if view_horizon else []))
     return manifest, json.loads(report.read_text())
 
 
@@ -554,6 +561,9 @@ def main():
                         help="the ball's tables also for its tiles squeezed east-west to these widths (its cosines of "
                              "latitude; docs/displacement.md §6, §9); empty: the square tile's alone (a quarter of "
                              "the ball's precomputation)")
+    parser.add_argument("--curved-view-horizon", type=float, default=88.0,
+                        help="the ball's and the torus's S also at views on the horizon, evaluated at this polar "
+                             "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")
