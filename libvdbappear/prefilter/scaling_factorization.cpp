@@ -117,24 +117,18 @@ void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis
     out[w] = s.jackknife ? jackknifedRatio(samples[w], sums[w], s.epsilon) : ratio(sums[w], s.epsilon);
 }
 
-// wo's node (oa, ob) of S (a bin centre, or with view_horizon one on the horizon), its polar angle
+// wo at S's node (oa, ob) (a bin centre, or with view_horizon one on the horizon), its polar angle
 // limited (horizon nodes to view_horizon_degrees).
-struct ViewNode {
-  Vec3 wo;
-  bool on_horizon;
-};
-ViewNode viewNode(const AngularScaling& S, int oa, int ob, const FactorizationSettings& s) {
-  ViewNode node{};
-  const Vec3 w = S.viewNodeDirection(oa, ob, &node.on_horizon);
-  node.wo = limitPolarAngle(w, (node.on_horizon ? s.view_horizon_degrees : s.max_theta_degrees) * kPi / 180);
-  return node;
+Vec3 viewAtNode(const AngularScaling& S, int oa, int ob, const FactorizationSettings& s) {
+  const double limit = S.onHorizon(oa, ob) ? s.view_horizon_degrees : s.max_theta_degrees;
+  return limitPolarAngle(S.viewNodeDirection(oa, ob), limit * kPi / 180);
 }
 
 // The key of S's entry (ia, ib, oa, ob)'s random numbers: a bin's index without horizon nodes, so
 // that the bins read the same with or without them; a horizon node's its index past all of those.
-std::int64_t angularKey(const AngularScaling& S, int ia, int ib, int oa, int ob, bool on_horizon) {
+std::int64_t angularKey(const AngularScaling& S, int ia, int ib, int oa, int ob) {
   const std::int64_t N = S.resolution, shift = S.view_horizon ? 1 : 0;
-  if (on_horizon) return N * N * N * N + std::int64_t(S.index(ia, ib, oa, ob));
+  if (S.onHorizon(oa, ob)) return N * N * N * N + std::int64_t(S.index(ia, ib, oa, ob));
   return ((ib * N + ia) * N + (ob - shift)) * N + (oa - shift);
 }
 
@@ -193,9 +187,9 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
     tbb::parallel_for(std::size_t(0), result.S.values.size(), [&](std::size_t bin) {
       const int oa = int(bin % V), ob = int(bin / V % V), ia = int(bin / (V * V) % N), ib = int(bin / (std::size_t(V) * V * N));
       const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
-      const ViewNode view = viewNode(result.S, oa, ob, s);
-      const std::int64_t key = angularKey(result.S, ia, ib, oa, ob, view.on_horizon);
-      result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, view.wo, key, cells_x, cells_y, s).min(s.max_scaling);
+      const Vec3 wo = viewAtNode(result.S, oa, ob, s);
+      const std::int64_t key = angularKey(result.S, ia, ib, oa, ob);
+      result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, wo, key, cells_x, cells_y, s).min(s.max_scaling);
       if (progress) progress->advance();
     });
     return result;
@@ -206,11 +200,11 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   const ViewScalingSampler per_view = R_view ? R_view : sampledPerLight(R);
   tbb::parallel_for(std::size_t(0), std::size_t(V) * V, [&](std::size_t wo_node) {
     const int oa = int(wo_node % V), ob = int(wo_node / V);
-    const ViewNode view = viewNode(result.S, oa, ob, s);
+    const Vec3 wo = viewAtNode(result.S, oa, ob, s);
     // wo's key: as angularKey() keys a bin of wi bin 0 (its bin without horizon nodes, or past them).
-    const std::int64_t key = angularKey(result.S, 0, 0, oa, ob, view.on_horizon);
+    const std::int64_t key = angularKey(result.S, 0, 0, oa, ob);
     std::vector<Rgb> values(wis.size());
-    angularBinsOfView(per_view, wis, view.wo, key, cells_x, cells_y, s, values.data());
+    angularBinsOfView(per_view, wis, wo, key, cells_x, cells_y, s, values.data());
     for (int ib = 0; ib < N; ++ib)
       for (int ia = 0; ia < N; ++ia)
         result.S.values[result.S.index(ia, ib, oa, ob)] = values[std::size_t(ia + N * ib)].min(s.max_scaling);

@@ -67,16 +67,12 @@ Vec3 AngularScaling::binDirection(int a, int b) const {
   return squareToHemisphere({(a + 0.5) / resolution, (b + 0.5) / resolution});
 }
 
-Vec3 AngularScaling::viewNodeDirection(int oa, int ob, bool* on_horizon) const {
-  if (!view_horizon) {
-    *on_horizon = false;
-    return binDirection(oa, ob);
-  }
+Vec3 AngularScaling::viewNodeDirection(int oa, int ob) const {
+  if (!view_horizon) return binDirection(oa, ob);
   const int N = resolution;
   const auto position = [N](int k) { return k == 0 ? 0.0 : k == N + 1 ? 1.0 : (k - 0.5) / N; };
-  *on_horizon = oa == 0 || ob == 0 || oa == N + 1 || ob == N + 1;
   const Vec3 w = squareToHemisphere({position(oa), position(ob)});
-  return *on_horizon ? Vec3(w.x(), w.y(), 0).normalized() : w;
+  return onHorizon(oa, ob) ? Vec3(w.x(), w.y(), 0).normalized() : w;
 }
 
 }  // namespace vdbappear

@@ -42,8 +42,12 @@ struct AngularScaling {
   }
   Vec3 binDirection(int a, int b) const;  // the direction at a bin's centre
   // wo's node (oa, ob): a bin centre, or with view_horizon on the horizon where oa or ob is an edge
-  // (0 or N + 1; bin k is node k + 1). `on_horizon` tells which.
-  Vec3 viewNodeDirection(int oa, int ob, bool* on_horizon) const;
+  // (0 or N + 1; bin k is node k + 1).
+  bool onHorizon(int oa, int ob) const {
+    const int edge = resolution + 1;
+    return view_horizon && (oa == 0 || ob == 0 || oa == edge || ob == edge);
+  }
+  Vec3 viewNodeDirection(int oa, int ob) const;
 };
 
 struct FactorizedScaling {
