@@ -28,6 +28,21 @@ double residualDistance(const TileStretch& residual) {
   return (residual.matrix() - I).norm() + (residual.inverse() - I).norm();
 }
 
+// A viewer below a curved base's horizon (a sphere's rim) sees h_low's facets that face it and, of
+// each coarse cell's lobes, those that face it, each by the area it shows: the lobes' visible mean
+// V (MultiLobeBrdf::visibleMean). Eq. (4.5)'s sum F (MultiLobeBrdf::projected) weighs them by area
+// alone and so fades as fewer of them face wo, while S, read there at the horizon node, holds the
+// ratio of the original to F at the horizon. So below it f_low is taken times
+//   c = [V(wo) / F(wo)] / [V(h) / F(h)],   h = wo's direction on the horizon (the same azimuth),
+// 1 at the horizon, where f_low stays continuous, and beyond it the visible lobes' mean scaled as S
+// scales it at the horizon. Per channel; 1 where a ratio has no value (no light on the lobes).
+Rgb viewBelowHorizonFactor(const MultiLobeBrdf& f, const Vec3& wi, const Vec3& wo, const TileStretch& stretch) {
+  const Vec3 h = Vec3(wo.x(), wo.y(), 0).normalized();
+  const Rgb below = f.visibleMean(wi, wo, stretch) * f.projected(wi, h, stretch);
+  const Rgb at_horizon = f.visibleMean(wi, h, stretch) * f.projected(wi, wo, stretch);
+  return (below > 0 && at_horizon > 0).select(below / at_horizon, Rgb::Ones());
+}
+
 }  // namespace
 
 Rgb PrefilteredBrdf::scalingOnTile(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
@@ -64,18 +79,23 @@ const MultiLobeBrdf& PrefilteredBrdf::cellAt(const Point2& x) const {
 Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch,
                           const Vec3& coarse_normal) const {
   const MultiLobeBrdf& f = cellAt(x);
+  if (shape_ == Base::kPlane && (wi.z() <= 0 || wo.z() <= 0)) return Rgb::Zero();  // the sign of vi.z, vo.z
+  Rgb f_low;
   if (!stretch.isIdentity()) {
-    if (shape_ == Base::kPlane && (wi.z() <= 0 || wo.z() <= 0)) return Rgb::Zero();  // the sign of vi.z, vo.z
-    const Rgb f_low = f.onStretchedTile(wi, wo, stretch, coarse_normal);
-    return (f_low == 0).all() ? f_low : Rgb(scalingOnTile(x, wi, wo, stretch) * f_low);
+    const Rgb lobes = f.onStretchedTile(wi, wo, stretch, coarse_normal);
+    if ((lobes == 0).all()) return lobes;
+    f_low = scalingOnTile(x, wi, wo, stretch) * lobes;
+  } else if (shape_ == Base::kPlane) {
+    const Rgb lobes = f.eval(wi, wo);
+    if ((lobes == 0).all()) return lobes;
+    f_low = square(x, wi, wo) * lobes;
+  } else {
+    const Rgb projected = f.projected(wi, wo);
+    if ((projected == 0).all()) return projected;
+    f_low = square(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
   }
-  if (shape_ == Base::kPlane) {
-    const Rgb f_low = f.eval(wi, wo);
-    return (f_low == 0).all() ? f_low : Rgb(square(x, wi, wo) * f_low);
-  }
-  const Rgb projected = f.projected(wi, wo);
-  if ((projected == 0).all()) return projected;
-  return square(x, wi, wo) * (projected / MultiLobeBrdf::limitedCosine(wi.z()));
+  if (shape_ == Base::kCurved && wo.z() < 0) f_low *= viewBelowHorizonFactor(f, wi, wo, stretch);
+  return f_low;
 }
 
 // Above the horizon the lobes' own draws; below it, with probability kBelowHorizonShare, those

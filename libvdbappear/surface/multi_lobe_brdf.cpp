@@ -41,19 +41,38 @@ Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
   return sum;
 }
 
+MultiLobeBrdf::OnSurface MultiLobeBrdf::onSurface(const Lobe& l, const Vec3& vi, const TileStretch& stretch) {
+  const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
+  if (stretch.isIdentity()) return {l.frame, 1.0, cos_i};
+  const Vec3 axis = stretch.normalOnSurfaceUnnormalised(l.frame.n);  // |A^-T mu_k| = 1 / its weight
+  const double length = axis.norm();
+  return {Frame::fromNormal(axis / length), length, cos_i};
+}
+
 Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
   if (stretch.isIdentity()) return projected(wi, wo);
   const Vec3 vi = stretch.toMap(wi);
   Rgb sum = Rgb::Zero();
   for (const Lobe& l : lobes_) {
-    const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
-    if (cos_i <= 0) continue;
-    const Vec3 axis = stretch.normalOnSurfaceUnnormalised(l.frame.n);  // |A^-T mu_k| = 1 / its weight
-    const double length = axis.norm();
-    const Frame on_surface = Frame::fromNormal(axis / length);
-    sum += l.brdf.eval(on_surface.toLocal(wo), on_surface.toLocal(wi)) * (l.amplitude * cos_i / length);
+    const OnSurface s = onSurface(l, vi, stretch);
+    if (s.cos_i <= 0) continue;
+    sum += l.brdf.eval(s.frame.toLocal(wo), s.frame.toLocal(wi)) * (l.amplitude * s.cos_i / s.length);
   }
   return sum;
+}
+
+Rgb MultiLobeBrdf::visibleMean(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
+  const Vec3 vi = stretch.isIdentity() ? wi : stretch.toMap(wi);
+  Rgb seen = Rgb::Zero();
+  double seen_area = 0;
+  for (const Lobe& l : lobes_) {
+    const OnSurface s = onSurface(l, vi, stretch);
+    const double shown = l.amplitude / s.length * std::max(0.0, s.frame.n.dot(wo));  // alpha_k' <a_k, wo>+
+    if (shown <= 0) continue;
+    seen_area += shown;
+    if (s.cos_i > 0) seen += l.brdf.eval(s.frame.toLocal(wo), s.frame.toLocal(wi)) * (shown * s.cos_i);
+  }
+  return seen_area > 0 ? Rgb(seen / seen_area) : Rgb(Rgb::Zero());
 }
 
 Rgb MultiLobeBrdf::onStretchedTile(const Vec3& wi, const Vec3& wo, const TileStretch& stretch,

@@ -53,6 +53,15 @@ class MultiLobeBrdf {
   //   projected(wi, wo, stretch) |A^-1 wi| / (limitedCosine(cos theta_i) |A^T n_c|).
   // No horizon cut (the caller's); eval() on the square tile, up to its cut.
   Rgb onStretchedTile(const Vec3& wi, const Vec3& wo, const TileStretch& stretch, const Vec3& coarse_normal) const;
+  // The lobes as a viewer sees them: each lobe's term of projected(wi, wo, stretch) in proportion
+  // to the area its facets show toward wo, alpha_k' <a_k, wo>+ (a_k its axis on the surface,
+  // alpha_k' = alpha_k / |A^-T mu_k| its area there; mu_k and alpha_k on the square tile):
+  //   V(wi, wo) = sum_k alpha_k' <a_k, wo>+ rho_k / sum_k alpha_k' <a_k, wo>+,
+  //   rho_k = <mu_k, vi>+ f_k(wi, wo), lobe k's own reflectance,
+  // microfacet theory's mean over the facets in view, masking aside; zero when no lobe faces wo.
+  // Eq. (4.5) weighs the lobes by alpha_k alone; above the horizon S, measured against it, makes
+  // up the difference, and below a curved base's horizon prefilter/prefiltered_brdf.h uses both.
+  Rgb visibleMean(const Vec3& wi, const Vec3& wo, const TileStretch& stretch = {}) const;
   BrdfSample sampleLobes(const Vec3& wo, double u_lobe, const Point2& u) const;  // weight not filled
   double lobePdf(const Vec3& wo, const Vec3& wi) const;
 
@@ -67,6 +76,14 @@ class MultiLobeBrdf {
     double amplitude;
     MicrofacetBrdf brdf;
   };
+  // Lobe l on the surface that `stretch` lays the tile out as: its frame about a_k, |A^-T mu_k|
+  // (alpha_k' = alpha_k / length; 1 on the square tile) and <mu_k, vi> (vi = stretch.toMap(wi)).
+  struct OnSurface {
+    Frame frame;
+    double length;
+    double cos_i;
+  };
+  static OnSurface onSurface(const Lobe& l, const Vec3& vi, const TileStretch& stretch);
   // The lobes' selection probabilities for wo; false when none faces it.
   bool lobeProbabilities(const Vec3& wo, double* probability) const;
 

@@ -249,6 +249,43 @@ TEST(MultiLobeBrdf, SamplingFollowsItsPdf) {
   }
 }
 
+// MultiLobeBrdf::visibleMean: each lobe's own reflectance (the lobe alone, over its area) weighed
+// by the area its facets show toward wo, for four lobes tilted up to 35 degrees, on the square tile and on a squeezed one, from views above
+// and below the macro-surface's horizon; zero where no lobe faces wo. Eq. (4.5)'s sum over the total
+// area, which weighs the lobes by area alone, is the negative control: below the horizon, where only
+// some lobes face wo, it falls short of the mean of those that do.
+TEST(MultiLobeBrdf, VisibleMeanWeighsEachLobeByTheAreaItShows) {
+  const auto tilted = [](double theta_degrees, double phi_degrees) {
+    const double theta = theta_degrees * kPi / 180, phi = phi_degrees * kPi / 180;
+    return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+  };
+  const VmfMixture ndf{{{0.4, 200, Vec3(0, 0, 1)}, {0.2, 80, tilted(25, 10)}, {0.2, 50, tilted(35, 200)}, {0.2, 100, tilted(20, 110)}}};
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
+  const MultiLobeBrdf rho(ndf, base);
+  const Vec3 wi = Vec3(0.2, -0.3, 0.9).normalized();
+  double largest_shortfall = 0;
+  for (const TileStretch& stretch : {TileStretch(), TileStretch::diagonal(0.5, 1)}) {
+    for (const Vec3& wo : {Vec3(0.3, 0.1, 1).normalized(), Vec3(0.95, 0.2, -0.15).normalized(),
+                           Vec3(-0.4, 0.9, -0.3).normalized()}) {
+      Rgb seen = Rgb::Zero();
+      double shown_area = 0, area = 0;
+      for (const VmfLobe& lobe : ndf.lobes) {
+        const MultiLobeBrdf alone(VmfMixture{{lobe}}, base);
+        const double shown = std::max(0.0, stretch.normalOnSurface(lobe.mu).dot(wo));
+        seen += alone.projected(wi, wo, stretch) * shown;
+        shown_area += lobe.amplitude * stretch.facetWeight(lobe.mu) * shown;
+        area += lobe.amplitude * stretch.facetWeight(lobe.mu);
+      }
+      ASSERT_GT(shown_area, 0) << wo.transpose();
+      const Rgb expected = seen / shown_area, mean = rho.visibleMean(wi, wo, stretch);
+      EXPECT_LT((mean - expected).abs().maxCoeff(), 1e-12 * expected.maxCoeff()) << wo.transpose();
+      if (wo.z() < 0) largest_shortfall = std::max(largest_shortfall, 1 - rho.projected(wi, wo, stretch)[0] / area / mean[0]);
+    }
+    EXPECT_EQ(rho.visibleMean(wi, Vec3(0, 0, -1), stretch).maxCoeff(), 0);
+  }
+  EXPECT_GT(largest_shortfall, 0.3);  // measured 0.82
+}
+
 TEST(PatchNdf, RefusesAPatchOutsideTheField) {
   const HeightField field(8, 8, 0.1);
   EXPECT_THROW(patchMicroNormals(field, 4, 4, 8, 2), std::invalid_argument);
