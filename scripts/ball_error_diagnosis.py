@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where the bumpy ball's error comes from (issue 23, docs/displacement.md §9): three checks on the
+"""Where the bumpy ball's error comes from (issue 23, docs/displacement.md §9): six checks on the
 tables and images of a `displacement_experiment.py` run that measured the ball (its OUT directory).
 
 1. latitude  the ball's lit crescent (sun cosine >= 0.34, as sphere_regions.py splits it) by latitude
@@ -8,13 +8,18 @@ tables and images of a `displacement_experiment.py` run that measured the ball (
 2. plane     the ball's bumps map tiled 6 x 6 on a plane, lit and seen as the crescent is (theta_i,
              theta_o and the azimuth between them; the crescent's median: 60, 65 and 150 degrees),
              with the same tables: is the model right at those angles where tiles are square?
+   rim-plane the same at the lit rim's angles (the view grazing at 84 and 87 degrees): is the model
+             right there on a plane, where no curvature lets the bumps show more than the table holds?
+   coverage  per band of the rim, the share of the camera's rays that meet the original surface and
+             h_low (a black surface under a white sky): the light past the silhouette that h_low's
+             outline loses whatever its BRDF.
 3. rotated   the ball with its camera and sun turned together about its centre, so that the
              crescent's light-weighted centre lies on the equator, where the tiles are square.
 4. rim       the pixels past the base sphere's silhouette (sphere_regions.py's rim) by how far past
              it their camera ray passes (in radii; the farther, the more the view grazes the h_low
              it meets), under direct light: the share of the reference's light, naive and full.
 
-Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--checks latitude,plane,rotated,rim]
+Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--checks latitude,plane,rotated,rim,rim-plane,coverage]
         [--build build] [--spp-ref 1024] [--spp 128]
 Prints one line per measurement; writes its scenes, images and masks into OUT (prefixed diag_)."""
 import argparse
@@ -32,6 +37,9 @@ RIM_BANDS = [(0, 0.005), (0.005, 0.01), (0.01, 0.015), (0.015, 0.02), (0.02, 1)]
 # (theta_i, theta_o, azimuth between wi and wo), degrees: the crescent's median first, then its
 # spread toward other views and lights.
 PLANE_ANGLES = [(60, 65, 150), (60, 65, 90), (60, 65, 30), (30, 75, 150), (60, 80, 150), (50, 50, 150)]
+# The lit rim's: the sun 40 degrees from the sphere's normal there (light-weighted median; quartiles
+# 32 and 54), 133 degrees of azimuth from the view, which grazes.
+RIM_PLANE_ANGLES = [(40, 84, 133), (40, 87, 133)]
 
 
 def _dot(a, b):
@@ -97,7 +105,8 @@ def by_latitude(args, out, factor):
               f"{errors['naive']:+.2%}, full {errors['full']:+.2%}", flush=True)
 
 
-def rim(args, out, factor):
+def _rim_bands(args, out):
+    """{band: (its pixels, its mask)} of the pixels past the silhouette by RIM_BANDS."""
     camera, radius = experiment.BALL["camera"], experiment.BALL_RADIUS
     width, height = [int(v) for v in args.res.split("x")]
     bands = {band: set() for band in RIM_BANDS}
@@ -108,13 +117,19 @@ def rim(args, out, factor):
             continue
         past = math.sqrt(c + radius * radius - b * b) / radius - 1  # the ray's closest approach, less the radius
         bands[next(band for band in RIM_BANDS if band[0] <= past < band[1])].add((x, y))
+    masks = {}
+    for band, pixels in bands.items():
+        if pixels:
+            masks[band] = (pixels, out / f"diag_rim_{band[0]}.pfm")
+            pinhole_pixels.write_mask_pfm(masks[band][1], width, height, pixels)
+    return masks
+
+
+def rim(args, out, factor):
+    width, height = [int(v) for v in args.res.split("x")]
     reference = out / "ball_direct_reference.exr"
     whole = experiment.compare(args.build, reference, reference)["mean_reference"]
-    for band, pixels in bands.items():
-        if not pixels:
-            continue
-        mask = out / f"diag_rim_{band[0]}.pfm"
-        pinhole_pixels.write_mask_pfm(mask, width, height, pixels)
+    for band, (pixels, mask) in _rim_bands(args, out).items():
         share = experiment.compare(args.build, reference, reference, mask=mask)["mean_reference"] * len(pixels) / (
             whole * width * height)
         errors = {m: _error(args, reference, out / f"ball_{factor}x_direct_{m}.exr", mask) for m in ("naive", "full")}
@@ -122,13 +137,32 @@ def rim(args, out, factor):
               f"{share:.1%} of the light, naive {errors['naive']:+.2%}, full {errors['full']:+.2%}", flush=True)
 
 
-def on_a_plane(args, out, factor):
+def coverage(args, out, factor):
+    res = [int(v) for v in args.res.split("x")]
+    black = {**experiment.BRDF, "specular": 0.0, "diffuse": 0.0}
+    images = {}
+    for model, field in _fields(f"ball_{factor}x_shadowing.json", experiment.BALL["placement"]).items():
+        if model == "full":
+            continue
+        # A black surface under a white sky: each pixel is the share of its rays that miss the surface.
+        images[model] = _render(args, out, f"diag_coverage_{factor}x_{model}",
+                                {"resolution": res, "seed": 1, "camera": experiment.BALL["camera"],
+                                 "lights": [{"type": "env", "radiance": 1.0}], "height_fields": [{**field, "brdf": black}]},
+                                args.spp)
+    for band, (pixels, mask) in _rim_bands(args, out).items():
+        hit = {m: 1 - experiment.compare(args.build, image, image, mask=mask)["mean_reference"] for m, image in images.items()}
+        print(f"{factor}x rim, {band[0]:.3f} to {min(band[1], 1):.3f} radii past the silhouette: the rays that meet "
+              f"the original {hit['reference']:.2%}, h_low {hit['naive']:.2%} ({hit['naive'] / hit['reference'] - 1:+.1%})",
+              flush=True)
+
+
+def on_a_plane(args, out, factor, angles=PLANE_ANGLES):
     tiles, manifest = 6, f"ball_{factor}x_shadowing.json"
     centre = [tiles / 2, tiles / 2, 0]
     direction = lambda theta, phi: [math.sin(math.radians(theta)) * math.cos(math.radians(phi)),
                                     math.sin(math.radians(theta)) * math.sin(math.radians(phi)),
                                     math.cos(math.radians(theta))]
-    for theta_i, theta_o, azimuth in PLANE_ANGLES:
+    for theta_i, theta_o, azimuth in angles:
         wo, wi = direction(theta_o, -90), direction(theta_i, -90 + azimuth)
         camera = {"position": [c + 2.2 * w for c, w in zip(centre, wo)], "target": centre, "up": [0, 0, 1], "fov": 18}
         sun = {"type": "sun", "direction": [-x for x in wi], "strength": experiment.SUN["strength"]}
@@ -173,7 +207,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", help="a displacement_experiment.py output directory that holds the ball")
     parser.add_argument("--factors", default="8,32")
-    parser.add_argument("--checks", default="latitude,plane,rotated,rim", help="of latitude, plane, rotated, rim")
+    parser.add_argument("--checks", default="latitude,plane,rotated,rim", help="of latitude, plane, rotated, rim, rim-plane, coverage")
     parser.add_argument("--build", default="build")
     parser.add_argument("--res", default="192x144", help="the experiment's --res")
     parser.add_argument("--spp-ref", type=int, default=1024)
@@ -181,7 +215,8 @@ def main():
     args = parser.parse_args()
     args.build = pathlib.Path(args.build).resolve()
     out = pathlib.Path(args.out)
-    checks = {"latitude": by_latitude, "plane": on_a_plane, "rotated": rotated, "rim": rim}
+    checks = {"latitude": by_latitude, "plane": on_a_plane, "rotated": rotated, "rim": rim,
+              "rim-plane": lambda a, o, f: on_a_plane(a, o, f, RIM_PLANE_ANGLES), "coverage": coverage}
     chosen = args.checks.split(",")
     if not set(chosen) <= set(checks):
         parser.error(f"--checks: of {', '.join(checks)}")
