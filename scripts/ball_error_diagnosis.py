@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Where the bumpy ball's error comes from (issue 23, docs/displacement.md §9): six checks on the
+"""Where the bumpy ball's error comes from (issue 23, docs/displacement.md §9): seven checks on the
 tables and images of a `displacement_experiment.py` run that measured the ball (its OUT directory).
 
 1. latitude  the ball's lit crescent (sun cosine >= 0.34, as sphere_regions.py splits it) by latitude
@@ -13,13 +13,17 @@ tables and images of a `displacement_experiment.py` run that measured the ball (
    coverage  per band of the rim, the share of the camera's rays that meet the original surface and
              h_low (a black surface under a white sky): the light past the silhouette that h_low's
              outline loses whatever its BRDF.
+   rim-masking R at the lit rim's angles (bench/rim_masking_study.cpp, views at 85, 87 and 89
+             degrees, three draws of 2000 coarse cells): of every cell with the map in front of it,
+             which the tables average, and of the upper cells with nothing in front, which the rim
+             shows, against T S there.
 3. rotated   the ball with its camera and sun turned together about its centre, so that the
              crescent's light-weighted centre lies on the equator, where the tiles are square.
 4. rim       the pixels past the base sphere's silhouette (sphere_regions.py's rim) by how far past
              it their camera ray passes (in radii; the farther, the more the view grazes the h_low
              it meets), under direct light: the share of the reference's light, naive and full.
 
-Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--checks latitude,plane,rotated,rim,rim-plane,coverage]
+Usage: scripts/ball_error_diagnosis.py OUT [--factors 8,32] [--checks latitude,plane,rotated,rim,rim-plane,coverage,rim-masking]
         [--build build] [--spp-ref 1024] [--spp 128]
 Prints one line per measurement; writes its scenes, images and masks into OUT (prefixed diag_)."""
 import argparse
@@ -156,6 +160,17 @@ def coverage(args, out, factor):
               flush=True)
 
 
+def rim_masking(args, out, factor):
+    # bench/rim_masking_study.cpp over windows of 64 fine cells about each coarse cell, three draws.
+    for theta_i, theta_o, azimuth in [(40, t, 133) for t in (85, 87, 89)]:
+        for seed in (7, 8, 9):
+            result = subprocess.run([str(v) for v in [experiment.tool(args.build, "rim_masking_study"), out / "ball.exr",
+                                     out / f"ball_{factor}x_shadowing.json", "--theta-i", theta_i, "--theta-o", theta_o,
+                                     "--azimuth", azimuth, "--cells", 2000, "--halo", max(2, 64 // factor), "--seed", seed]],
+                                    check=True, capture_output=True, text=True)
+            print(f"{factor}x, seed {seed}: {result.stdout.strip()}", flush=True)
+
+
 def on_a_plane(args, out, factor, angles=PLANE_ANGLES):
     tiles, manifest = 6, f"ball_{factor}x_shadowing.json"
     centre = [tiles / 2, tiles / 2, 0]
@@ -207,7 +222,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", help="a displacement_experiment.py output directory that holds the ball")
     parser.add_argument("--factors", default="8,32")
-    parser.add_argument("--checks", default="latitude,plane,rotated,rim", help="of latitude, plane, rotated, rim, rim-plane, coverage")
+    parser.add_argument("--checks", default="latitude,plane,rotated,rim", help="of latitude, plane, rotated, rim, rim-plane, coverage, rim-masking")
     parser.add_argument("--build", default="build")
     parser.add_argument("--res", default="192x144", help="the experiment's --res")
     parser.add_argument("--spp-ref", type=int, default=1024)
@@ -216,7 +231,8 @@ def main():
     args.build = pathlib.Path(args.build).resolve()
     out = pathlib.Path(args.out)
     checks = {"latitude": by_latitude, "plane": on_a_plane, "rotated": rotated, "rim": rim,
-              "rim-plane": lambda a, o, f: on_a_plane(a, o, f, RIM_PLANE_ANGLES), "coverage": coverage}
+              "rim-plane": lambda a, o, f: on_a_plane(a, o, f, RIM_PLANE_ANGLES), "coverage": coverage,
+              "rim-masking": rim_masking}
     chosen = args.checks.split(",")
     if not set(chosen) <= set(checks):
         parser.error(f"--checks: of {', '.join(checks)}")
