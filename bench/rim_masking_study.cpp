@@ -29,6 +29,7 @@ struct Settings {
   std::string map, manifest;
   double theta_i = 40, theta_o = 87, azimuth = 133;  // degrees; the lit rim's (ball_error_diagnosis.py)
   int cells = 120, halo = 8, samples_per_side = 24;
+  double base_curvature = 0;  // > 0: also R of all cells with the map in front over a base so curved
   std::uint64_t seed = 7;
 };
 
@@ -69,7 +70,7 @@ void run(const Settings& s) {
   e.samples_per_side = s.samples_per_side;
   const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb(Rgb::Ones()); };
   RandomStream random(s.seed, {0});
-  Sums all_in_front, upper_alone;
+  Sums all_in_front, upper_alone, curved;
   for (int k = 0; k < s.cells; ++k) {
     const Point2 p = random.uniform2();
     const int u = halo + std::min(int(p.x() * (n - 2 * halo - 1)), n - 2 * halo - 2);
@@ -77,16 +78,18 @@ void run(const Settings& s) {
     const bool upper = meanHeight(coarse, u, v, 1) > meanHeight(coarse, u - 2, v - 2, 6);
     const MultiLobeBrdf f_low(file.surface.ndfs[std::size_t(u) + std::size_t(n) * v], file.base);
     const double T_S = file.surface.scaling(Point2((u + 0.5) / n, (v + 0.5) / coarse.cellsY()), wi, wo)[0];
-    for (const bool in_front : {true, false}) {
-      if (!in_front && !upper) continue;
+    for (const int kind : {0, 1, 2}) {  // the map in front; nothing in front (upper cells); curved
+      const bool in_front = kind != 1;
+      if ((kind == 1 && !upper) || (kind == 2 && !(s.base_curvature > 0))) continue;
       const int front = in_front ? halo : 0;  // coarse rows kept in front of the cell
-      const MicroGeometry original(window(fine, (u - halo) * F, (v - front) * F, (2 * halo + 1) * F, (front + halo + 1) * F));
-      const MicroGeometry low(window(coarse, u - halo, v - front, 2 * halo + 1, front + halo + 1));
+      const double curvature = kind == 2 ? s.base_curvature : 0;
+      const MicroGeometry original(window(fine, (u - halo) * F, (v - front) * F, (2 * halo + 1) * F, (front + halo + 1) * F), {}, curvature);
+      const MicroGeometry low(window(coarse, u - halo, v - front, 2 * halo + 1, front + halo + 1), {}, curvature);
       e.seed = s.seed + 1 + k;
       const EffectiveBrdf o = effectiveBrdf(original, halo * F, front * F, F, microfacetPatchBrdf(file.base), wi, wo, e);
       const EffectiveBrdf g = effectiveBrdf(low, halo, front, 1, one, wi, wo, e);
       const double model = f_low.eval(wi, wo)[0] * g.value[0] * g.visible_area;
-      Sums& sums = in_front ? all_in_front : upper_alone;
+      Sums& sums = kind == 0 ? all_in_front : kind == 1 ? upper_alone : curved;
       sums.original += o.value[0] * o.visible_area;
       sums.model += model;
       sums.tables += T_S * model;
@@ -97,6 +100,9 @@ void run(const Settings& s) {
               s.theta_i, s.theta_o, s.azimuth, all_in_front.ratio(), all_in_front.tables / all_in_front.model,
               upper_alone.ratio(), upper_alone.tables / upper_alone.model,
               100 * (upper_alone.tables / upper_alone.original - 1));
+  if (s.base_curvature > 0)
+    std::printf("  over a base of curvature %g, all cells with the map in front: R %.4f (T S %.4f, %+.1f%%)\n", s.base_curvature,
+                curved.ratio(), curved.tables / curved.model, 100 * (curved.tables / curved.original - 1));
 }
 
 }  // namespace
@@ -115,6 +121,8 @@ int main(int argc, char** argv) {
   app.add_option("--halo", s.halo, "coarse cells of the map kept about each (and in front of it)")->check(CLI::Range(1, 64));
   app.add_option("--samples-per-side", s.samples_per_side, "positions per estimate, per side")->check(CLI::Range(1, 200));
   app.add_option("--seed", s.seed, "draws the cells and the positions");
+  app.add_option("--base-curvature", s.base_curvature, "also R over a base of this curvature (1 / world units)")
+      ->check(CLI::Range(0.0, 1e6));
   CLI11_PARSE(app, argc, argv);
   try {
     vdbappear::run(s);

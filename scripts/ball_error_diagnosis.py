@@ -15,8 +15,8 @@ tables and images of a `displacement_experiment.py` run that measured the ball (
              outline loses whatever its BRDF.
    rim-masking R at the lit rim's angles (bench/rim_masking_study.cpp, views at 85, 87 and 89
              degrees, three draws of 2000 coarse cells): of every cell with the map in front of it,
-             which the tables average, and of the upper cells with nothing in front, which the rim
-             shows, against T S there.
+             which the tables average, of the upper cells with nothing in front, and of every cell
+             over a base as curved as the ball's, against T S there.
 3. rotated   the ball with its camera and sun turned together about its centre, so that the
              crescent's light-weighted centre lies on the equator, where the tiles are square.
 4. rim       the pixels past the base sphere's silhouette (sphere_regions.py's rim) by how far past
@@ -166,9 +166,10 @@ def rim_masking(args, out, factor):
         for seed in (7, 8, 9):
             result = subprocess.run([str(v) for v in [experiment.tool(args.build, "rim_masking_study"), out / "ball.exr",
                                      out / f"ball_{factor}x_shadowing.json", "--theta-i", theta_i, "--theta-o", theta_o,
-                                     "--azimuth", azimuth, "--cells", 2000, "--halo", max(2, 64 // factor), "--seed", seed]],
+                                     "--azimuth", azimuth, "--cells", 2000, "--halo", max(2, 64 // factor), "--seed", seed,
+                                     "--base-curvature", 1 / experiment.BALL_RADIUS]],
                                     check=True, capture_output=True, text=True)
-            print(f"{factor}x, seed {seed}: {result.stdout.strip()}", flush=True)
+            print(f"{factor}x, seed {seed}: " + " ".join(result.stdout.split()), flush=True)
 
 
 def on_a_plane(args, out, factor, angles=PLANE_ANGLES):

@@ -9,16 +9,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace vdbappear {
 
-MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretch)
-    : field_(field), stretch_(stretch), scene_(std::make_unique<SurfaceScene>()) {
+MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretch, double base_curvature)
+    : field_(field), stretch_(stretch), base_curvature_(base_curvature), scene_(std::make_unique<SurfaceScene>()) {
+  if (!(base_curvature_ >= 0) || !std::isfinite(base_curvature_))
+    throw std::invalid_argument("MicroGeometry: the base's curvature must be finite and not negative");
   std::vector<Triangle> triangles = heightFieldTriangles(field_, {});
   if (!stretch_.isIdentity())
     for (Triangle& t : triangles)
       for (Vec3& vertex : t) vertex = stretched(vertex);
+  highest_ = -std::numeric_limits<double>::infinity();
+  lo_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  hi_ = -lo_;
+  for (const Triangle& t : triangles)
+    for (const Vec3& vertex : t) {
+      highest_ = std::max(highest_, vertex.z());
+      lo_ = lo_.cwiseMin(vertex.head<2>());
+      hi_ = hi_.cwiseMax(vertex.head<2>());
+    }
   scene_->addDiffuse(triangles, Rgb::Zero());
   scene_->commit();
 }
@@ -50,7 +62,31 @@ double MicroGeometry::rayEpsilon() const {
 
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
-  return !scene_->occluded(p.x + eps * p.normal, w, eps, 1e30);
+  const Vec3 origin = p.x + eps * p.normal;
+  if (base_curvature_ > 0) return unoccludedOverCurvedBase(origin, w, eps);
+  return !scene_->occluded(origin, w, eps, 1e30);
+}
+
+// The ray origin + t w + z bend t^2, bend = base_curvature |w_xy|^2 / 2, in pieces of length
+// `step` whose chords stray from it by bend step^2 / 8 at most, until it rises above the field's
+// highest point or leaves its box.
+bool MicroGeometry::unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const {
+  const double bend = base_curvature_ * w.head<2>().squaredNorm() / 2;
+  if (!(bend > 0)) return !scene_->occluded(origin, w, eps, 1e30);
+  const double tolerance = field_.cellSize() / 10;
+  const double step = std::sqrt(8 * tolerance / bend);
+  const auto at = [&](double t) { return Vec3(origin + t * w + Vec3(0, 0, bend * t * t)); };
+  const auto outside = [&](const Vec3& x) {
+    return x.z() > highest_ || (x.head<2>().array() < lo_.array()).any() || (x.head<2>().array() > hi_.array()).any();
+  };
+  Vec3 a = origin;
+  for (double t = 0; !outside(a); t += step) {
+    const Vec3 b = at(t + step), chord = b - a;
+    const double length = chord.norm();
+    if (scene_->occluded(a, chord / length, t == 0 ? eps : 0, length)) return false;
+    a = b;
+  }
+  return true;
 }
 
 std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const Vec3& w) const {

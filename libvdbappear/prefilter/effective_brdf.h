@@ -25,9 +25,14 @@ class SurfaceScene;
 // by `stretch` (surface/tile_stretch.h: the map's (x, y) to the surface's, heights kept), it is the
 // tile as a sphere or a mesh lays it out: points, normals and rays are then the stretched
 // surface's, and base positions stay the map's.
+//
+// `base_curvature` (1 / world units; 0: a plane) lays it on a base that bends away from every point
+// as a sphere of radius 1 / base_curvature does, to second order: seen from a point, the surface at
+// distance d along the base lies d^2 base_curvature / 2 lower. unoccluded() follows that (what a
+// sphere's bumps shadow and mask); trace(), the paths' next bounce, stays on the plane.
 class MicroGeometry {
  public:
-  explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {});
+  explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {}, double base_curvature = 0);
   ~MicroGeometry();
   MicroGeometry(const MicroGeometry&) = delete;
   MicroGeometry& operator=(const MicroGeometry&) = delete;
@@ -40,6 +45,8 @@ class MicroGeometry {
   // The surface above base position (u, v), in cell units (0 <= u <= cells x, 0 <= v <= cells y).
   Point at(double u, double v) const;
   // Whether w leaves the point without meeting the surface again (rays beyond the field escape).
+  // On a curved base the ray rises above the map by (t |w_xy|)^2 base_curvature / 2 at t, followed
+  // in straight pieces whose chords stray from it by at most a tenth of a cell's side.
   bool unoccluded(const Point& p, const Vec3& w) const;
   // The first point that a ray from p along w meets, if any (none past the field's edges).
   std::optional<Point> trace(const Point& p, const Vec3& w) const;
@@ -49,8 +56,12 @@ class MicroGeometry {
  private:
   double rayEpsilon() const;
   Vec3 stretched(const Vec3& on_map) const;
+  bool unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const;
   HeightField field_;
   TileStretch stretch_;
+  double base_curvature_;
+  double highest_;  // the field's highest point
+  Eigen::Vector2d lo_, hi_;  // the box of the surface's (x, y)
   std::unique_ptr<SurfaceScene> scene_;
 };
 

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace vdbappear {
 namespace {
@@ -100,6 +101,26 @@ TEST(ScalingFunction, DarkensTheMultiLobeModelTowardGrazing) {
     EXPECT_LT(R, 0.95 * previous) << "theta " << theta;
     previous = R;
   }
+}
+
+// MicroGeometry over a curved base: a ridge of height H at distance D in front of a point on a flat
+// map hides a ray that rises D cot(theta) by it, until the base bends away by D^2 kappa / 2 there:
+// the ray clears the ridge from kappa = 2 (H - D cot theta) / D^2 on (0.39 here), and a vertical ray
+// sees the same on any base. The plane (kappa = 0) and a base bent 10% less than the threshold are
+// the controls.
+TEST(MicroGeometry, CurvedBaseLetsARayClearWhatThePlaneHides) {
+  HeightField field(200, 200, 0.01);
+  for (int i = 0; i <= 200; ++i) field.at(i, 100) = 0.1;  // the ridge along x at y = 1
+  const Vec3 toward_ridge = Vec3(0, -1, 0.1).normalized();  // cot theta = 0.1
+  const double D = 0.505, threshold = 2 * (0.1 - D * 0.1) / (D * D);
+  for (const double kappa : {0.0, 0.9 * threshold, 1.1 * threshold, 10 * threshold}) {
+    const MicroGeometry geometry(field, {}, kappa);
+    const MicroGeometry::Point p = geometry.at(100.5, 150.5);  // (1.005, 1.505), 0.505 behind the ridge
+    EXPECT_EQ(geometry.unoccluded(p, toward_ridge), kappa > threshold) << kappa;
+    EXPECT_TRUE(geometry.unoccluded(p, Vec3(0, 0, 1))) << kappa;
+    EXPECT_TRUE(geometry.unoccluded(p, Vec3(0, 1, 0.1).normalized())) << kappa;  // away from it, off the map
+  }
+  EXPECT_THROW(MicroGeometry(field, {}, -1), std::invalid_argument);
 }
 
 }  // namespace
