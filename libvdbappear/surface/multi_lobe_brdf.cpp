@@ -31,15 +31,7 @@ MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base) 
 
 double MultiLobeBrdf::limitedCosine(double cos_theta_i) { return std::max(cos_theta_i, kMinCosTheta); }
 
-Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
-  Rgb sum = Rgb::Zero();
-  for (const Lobe& l : lobes_) {
-    const double cos_i = l.frame.n.dot(wi);  // <mu_k, wi>
-    if (cos_i <= 0) continue;
-    sum += l.brdf.eval(l.frame.toLocal(wo), l.frame.toLocal(wi)) * (l.amplitude * cos_i);
-  }
-  return sum;
-}
+Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const { return projected(wi, wo, TileStretch()); }
 
 MultiLobeBrdf::OnSurface MultiLobeBrdf::onSurface(const Lobe& l, const Vec3& vi, const TileStretch& stretch) {
   const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
@@ -50,8 +42,7 @@ MultiLobeBrdf::OnSurface MultiLobeBrdf::onSurface(const Lobe& l, const Vec3& vi,
 }
 
 Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
-  if (stretch.isIdentity()) return projected(wi, wo);
-  const Vec3 vi = stretch.toMap(wi);
+  const Vec3 vi = stretch.isIdentity() ? wi : stretch.toMap(wi);
   Rgb sum = Rgb::Zero();
   for (const Lobe& l : lobes_) {
     const OnSurface s = onSurface(l, vi, stretch);
