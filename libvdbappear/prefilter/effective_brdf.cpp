@@ -63,16 +63,16 @@ double MicroGeometry::rayEpsilon() const {
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  if (base_curvature_ > 0) return unoccludedOverCurvedBase(origin, w, eps);
+  if (base_curvature_ * w.head<2>().squaredNorm() > 0) return unoccludedOverCurvedBase(origin, w, eps);
   return !scene_->occluded(origin, w, eps, 1e30);
 }
 
 // The ray origin + t w + z bend t^2, bend = base_curvature |w_xy|^2 / 2, in pieces of length
 // `step` whose chords stray from it by bend step^2 / 8 at most, until it rises above the field's
-// highest point or leaves its box.
-bool MicroGeometry::unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const {
+// highest point or leaves its box: chord(a, b, t_min) for each, until it returns true.
+template <typename Chord>
+void MicroGeometry::followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const {
   const double bend = base_curvature_ * w.head<2>().squaredNorm() / 2;
-  if (!(bend > 0)) return !scene_->occluded(origin, w, eps, 1e30);
   const double tolerance = field_.cellSize() / 10;
   const double step = std::sqrt(8 * tolerance / bend);
   const auto at = [&](double t) { return Vec3(origin + t * w + Vec3(0, 0, bend * t * t)); };
@@ -81,22 +81,48 @@ bool MicroGeometry::unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, 
   };
   Vec3 a = origin;
   for (double t = 0; !outside(a); t += step) {
-    const Vec3 b = at(t + step), chord = b - a;
-    const double length = chord.norm();
-    if (scene_->occluded(a, chord / length, t == 0 ? eps : 0, length)) return false;
+    const Vec3 b = at(t + step);
+    if (chord(a, b, t == 0 ? eps : 0)) return;
     a = b;
   }
-  return true;
 }
 
+bool MicroGeometry::unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const {
+  bool blocked = false;
+  followCurvedRay(origin, w, eps, [&](const Vec3& a, const Vec3& b, double t_min) {
+    const Vec3 chord = b - a;
+    const double length = chord.norm();
+    return blocked = scene_->occluded(a, chord / length, t_min, length);
+  });
+  return !blocked;
+}
+
+MicroGeometry::Point MicroGeometry::pointOf(const Vec3& x, const Vec3& normal) const {
+  const Eigen::Vector2d on_map = stretch_.isIdentity() ? Eigen::Vector2d(x.head<2>()) : stretch_.inverse() * x.head<2>();
+  return Point{x, normal, Point2(on_map / field_.cellSize())};
+}
+
+// Over a curved base the ray is followed as unoccluded() follows it, and the first chord that meets
+// the surface gives the point. The direction it arrives from is taken as w: it turns by
+// base_curvature times the distance travelled (0.01 radians over ten cells of a 1K map on the ball),
+// and the paths of R_ir's estimates mostly meet a neighbouring bump or leave.
 std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
-  if (!hit) return std::nullopt;
-  const Vec3 x = origin + hit->t * w;
-  const Eigen::Vector2d on_map = stretch_.isIdentity() ? Eigen::Vector2d(x.head<2>()) : stretch_.inverse() * x.head<2>();
-  return Point{x, hit->normal, Point2(on_map / field_.cellSize())};
+  if (!(base_curvature_ * w.head<2>().squaredNorm() > 0)) {
+    const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
+    if (!hit) return std::nullopt;
+    return pointOf(origin + hit->t * w, hit->normal);
+  }
+  std::optional<Point> found;
+  followCurvedRay(origin, w, eps, [&](const Vec3& a, const Vec3& b, double t_min) {
+    const Vec3 chord = b - a;
+    const double length = chord.norm();
+    const std::optional<SurfaceHit> hit = scene_->intersect(a, chord / length, t_min, length);
+    if (hit) found = pointOf(a + hit->t * chord / length, hit->normal);
+    return hit.has_value();
+  });
+  return found;
 }
 
 PatchBrdf microfacetPatchBrdf(const MicrofacetBrdf& base) {

@@ -28,8 +28,8 @@ class SurfaceScene;
 //
 // `base_curvature` (1 / world units; 0: a plane) lays it on a base that bends away from every point
 // as a sphere of radius 1 / base_curvature does, to second order: seen from a point, the surface at
-// distance d along the base lies d^2 base_curvature / 2 lower. unoccluded() follows that (what a
-// sphere's bumps shadow and mask); trace(), the paths' next bounce, stays on the plane.
+// distance d along the base lies d^2 base_curvature / 2 lower. unoccluded() and trace() follow that
+// (what a sphere's bumps shadow and mask, and where a path's next bounce lands).
 class MicroGeometry {
  public:
   explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {}, double base_curvature = 0);
@@ -48,7 +48,8 @@ class MicroGeometry {
   // On a curved base the ray rises above the map by (t |w_xy|)^2 base_curvature / 2 at t, followed
   // in straight pieces whose chords stray from it by at most a tenth of a cell's side.
   bool unoccluded(const Point& p, const Vec3& w) const;
-  // The first point that a ray from p along w meets, if any (none past the field's edges).
+  // The first point that a ray from p along w meets, if any (none past the field's edges); over a
+  // curved base followed as unoccluded() follows it.
   std::optional<Point> trace(const Point& p, const Vec3& w) const;
   const HeightField& field() const { return field_; }
   const TileStretch& stretch() const { return stretch_; }
@@ -57,6 +58,9 @@ class MicroGeometry {
   double rayEpsilon() const;
   Vec3 stretched(const Vec3& on_map) const;
   bool unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const;
+  template <typename Chord>
+  void followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const;
+  Point pointOf(const Vec3& x, const Vec3& normal) const;  // a point of the stretched surface
   HeightField field_;
   TileStretch stretch_;
   double base_curvature_;

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -121,6 +123,27 @@ TEST(MicroGeometry, CurvedBaseLetsARayClearWhatThePlaneHides) {
     EXPECT_TRUE(geometry.unoccluded(p, Vec3(0, 1, 0.1).normalized())) << kappa;  // away from it, off the map
   }
   EXPECT_THROW(MicroGeometry(field, {}, -1), std::invalid_argument);
+}
+
+// trace() over a curved base follows the same bent ray: toward the ridge of the test above, below the
+// threshold curvature the ray meets the ridge (on its near side, y >= 1 - one cell), above it the ray
+// clears it and meets nothing on the map; on the plane it meets the ridge where the straight ray does.
+TEST(MicroGeometry, CurvedBaseTracesTheBentRay) {
+  HeightField field(200, 200, 0.01);
+  for (int i = 0; i <= 200; ++i) field.at(i, 100) = 0.1;
+  const Vec3 toward_ridge = Vec3(0, -1, 0.1).normalized();
+  const double D = 0.505, threshold = 2 * (0.1 - D * 0.1) / (D * D);
+  for (const double kappa : {0.0, 0.9 * threshold, 1.1 * threshold}) {
+    const MicroGeometry geometry(field, {}, kappa);
+    const MicroGeometry::Point p = geometry.at(100.5, 150.5);
+    const std::optional<MicroGeometry::Point> hit = geometry.trace(p, toward_ridge);
+    ASSERT_EQ(hit.has_value(), kappa < threshold) << kappa;
+    if (!hit) continue;
+    EXPECT_NEAR(hit->x.y(), 1.0, 0.0101) << kappa;  // on the ridge's slope toward p
+    EXPECT_NEAR(hit->base.y(), hit->x.y() / 0.01, 1e-9);
+    EXPECT_GT(hit->x.z(), 0.0) << kappa;
+    EXPECT_GT(hit->normal.y(), 0.0) << kappa;  // the slope that faces p
+  }
 }
 
 }  // namespace
