@@ -45,7 +45,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--curved-tables] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -104,6 +104,12 @@ BALL_RADIUS = 8 / (2 * math.pi)  # tiles of width 1 around the equator
 TORUS = {"map": "bumps", "ring": 1 / 0.35, "tube": 0.4 / 0.35, "quads": (96, 48),
          "placement": {"mesh": "torus.obj", "tiles": [18, 7]},
          "camera": {"position": [1.43, -9.14, 5.71], "target": [0, 0, 0], "up": [0, 0, 1], "fov": 40}}
+# Each curved base's curvature for --curved-tables: the ball's 1 / radius; the torus's mean curvature
+# averaged over its outer, convex half by area, (pi R / r + 4) / (2 (pi R + 2 r)) (0.526; the
+# normal curvatures there run from 0 to 1 / r = 0.875, its inner half is a saddle).
+BALL["curvature"] = 1 / BALL_RADIUS
+TORUS["curvature"] = ((math.pi * TORUS["ring"] / TORUS["tube"] + 4) /
+                      (2 * (math.pi * TORUS["ring"] + 2 * TORUS["tube"])))
 CURVED = {"ball": BALL, "torus": TORUS}
 # Each surface's scale in the chapter (Table 4.3: twill 8x, bump 16x, noise 64x, relief 16x; the
 # torus carries the bump map), studied in sections 1-2 besides --factors unless --no-chapter-scales.
@@ -153,11 +159,13 @@ def same_brdf(written, brdf):
         all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
 
 
-def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0):
+def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
+    if abs(m.get("settings", {}).get("base_curvature", 0.0) - base_curvature) > 1e-9:
+        return False
     if m.get("settings", {}).get("stretches", []) != (stretches.split(",") if stretches else []):
         return False
     if m.get("settings", {}).get("view_horizon_degrees", 0.0) != view_horizon:
@@ -183,11 +191,16 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # And on curved bases S up to the view's horizon, which their rims show (docs/displacement.md §6,
     # "The view's horizon").
     view_horizon = args.curved_view_horizon if surface in CURVED else 0.0
-    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon):
+    # With --curved-tables, their tables over a base as convex as theirs (docs/displacement.md §6,
+    # "Tables for a curved base").
+    curvature = CURVED[surface]["curvature"] if args.curved_tables and surface in CURVED else 0.0
+    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
+                    curvature):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
             (["--stretch", stretches] if stretches else []) +
-            (["--view-horizon", view_horizon] if view_horizon else []))
+            (["--view-horizon", view_horizon] if view_horizon else []) +
+            (["--base-curvature", curvature] if curvature else []))
     return manifest, json.loads(report.read_text())
 
 
@@ -564,6 +577,9 @@ def main():
     parser.add_argument("--curved-view-horizon", type=float, default=88.0,
                         help="the ball's and the torus's S also at views on the horizon, evaluated at this polar "
                              "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
+    parser.add_argument("--curved-tables", action="store_true",
+                        help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
+                             "the torus's outer half's mean curvature; docs/displacement.md §6); off: over a plane")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")

@@ -139,6 +139,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"max_theta_degrees", f.max_theta_degrees},
       {"view_horizon_degrees", f.view_horizon_degrees},
       {"stretches", o.stretches},
+      {"base_curvature", settings.base_curvature},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
   writePrefilteredSurface(file, o.output, recorded);
@@ -246,6 +247,11 @@ int main(int argc, char** argv) {
                  "SX[:SY] given (SY 1): what a sphere's tiles are toward its poles (SX its cosine of latitude); "
                  "vdb_render reads the nearest two (docs/displacement.md §6)")
       ->delimiter(',');
+  app.add_option("--base-curvature", s.base_curvature,
+                 "make the tables over a convex base of this curvature (1 / world units; a sphere of radius r: "
+                 "1 / r), whose bumps shadow and mask less at grazing angles; 0: a plane (docs/displacement.md §6)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--seed", s.seed, "random seed (same output for any thread count)")->capture_default_str();
   app.add_flag("-v,--verbose", o.verbose, "print sizes, bytes per part and timings to stderr");
   app.add_option("--report", o.report, "write a JSON report (bytes per part, timings) to this file");

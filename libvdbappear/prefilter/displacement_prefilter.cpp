@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,8 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
   for (const TileStretch& stretch : s.stretches)
     if (!(stretch.matrix().determinant() > 0) || !stretch.matrix().allFinite())
       fail("a tile's stretch must be finite with a positive determinant (it may not mirror or flatten the tile)");
+  if (!(s.base_curvature >= 0) || !std::isfinite(s.base_curvature))
+    fail("the base's curvature must be finite and not negative (a convex base or a plane)");
 }
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
@@ -45,10 +48,11 @@ class ScalingEstimator {
  public:
   // `stretch`: of the tile the estimates are for (surface/tile_stretch.h): both micro-geometries
   // laid out stretched, directions the stretched surface's, and f'_low as the model shades that
-  // tile (MultiLobeBrdf::onStretchedTile).
+  // tile (MultiLobeBrdf::onStretchedTile). Both over a base of s.base_curvature, as the renderer
+  // lays h_low and the original out over a convex surface.
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
                    const DisplacementPrefilterSettings& s, const TileStretch& stretch)
-      : original_(fine, stretch), prefiltered_(low.height, stretch), base_(base), s_(s) {
+      : original_(fine, stretch, s.base_curvature), prefiltered_(low.height, stretch, s.base_curvature), base_(base), s_(s) {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
     low_scattering_ = lowScattering();
     original_scattering_ = microfacetScattering(base);

@@ -39,6 +39,11 @@ struct DisplacementPrefilterSettings {
   // Tiles that a surface lays the map out stretched as (surface/tile_stretch.h; a sphere's tiles
   // narrow toward its poles): the scaling tables also for each of them, besides the square tile's.
   std::vector<TileStretch> stretches;
+  // The curvature (1 / world units) of the base the tables are made over: both micro-geometries
+  // bend away from every point as a sphere of radius 1 / base_curvature does, so that what a convex
+  // base's bumps shadow and mask, and where R_ir's paths bounce, is what R counts (MicroGeometry).
+  // 0: a plane, the chapter's. docs/displacement.md §6, "Tables for a curved base".
+  double base_curvature = 0;
   std::uint64_t seed = 1;
 };
 

@@ -164,6 +164,7 @@ TEST(DisplacementCli, BadInputIsRefusedAndWritesNothing) {
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --stretch 0.5,x", "--stretch: 'x' is not SX or SX:SY");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --stretch 0:1", "both scales must be positive");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --view-horizon 95", "--view-horizon", true);
+  expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --base-curvature -1", "--base-curvature", true);
   expectRefused(dir, kPrefilter + " " + quote(dir.path("missing.exr")) + " " + out, "missing.exr");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + quote(dir.path("out.exr")), "OUT must end in .json", true);
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + " --factor 1", "--factor", true);

@@ -100,6 +100,40 @@ TEST(DisplacementPrefilter, PositionsInOneCellAreIndependentEstimates) {
   EXPECT_LT(many, one / 4);
 }
 
+// Tables over a convex base (DisplacementPrefilterSettings::base_curvature): on a map of one coarse
+// cell, h_low is one facet that shadows and masks nothing, so R's denominator is the plane's, while
+// over the curved base the original's rays rise above the map and clear at least what they clear on
+// the plane (the same positions, paths and seeds): every S bin at least the plane's, and more where
+// a bump hides the light or the view. A flat map still needs no scaling; a negative curvature is
+// refused.
+TEST(DisplacementPrefilter, TablesOverAConvexBaseShadowAndMaskLess) {
+  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.001, 3);
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
+  DisplacementPrefilterSettings s = test::smallPrefilterSettings();
+  s.factor = 32;
+  s.scaling = ScalingKind::Shadowing;
+  const std::vector<Rgb> plane = prefilterDisplacement(bumpy, base, s).scaling.S.values;
+  s.base_curvature = 10;  // a sphere of radius 10 cells: a bump of 17 cells falls 0.036 away, as high as it is
+  const std::vector<Rgb> curved = prefilterDisplacement(bumpy, base, s).scaling.S.values;
+  ASSERT_EQ(plane.size(), curved.size());
+  double gain = 0;
+  for (std::size_t k = 0; k < plane.size(); ++k) {
+    EXPECT_GE(curved[k][0], plane[k][0] * (1 - 1e-9)) << k;
+    gain = std::max(gain, curved[k][0] / plane[k][0]);
+  }
+  std::printf("S over a base of radius 10 cells: up to %.3f times the plane's\n", gain);
+  EXPECT_GT(gain, 1.05);
+
+  HeightField flat(32, 32, 0.01);
+  for (int j = 0; j <= 32; ++j)
+    for (int i = 0; i <= 32; ++i) flat.at(i, j) = 0.05;
+  s.factor = 8;
+  const PrefilteredSurface p = prefilterDisplacement(flat, base, s);
+  for (const Rgb& v : p.scaling.S.values) EXPECT_LT((v - 1).abs().maxCoeff(), 2e-3) << v.transpose();
+  s.base_curvature = -1;
+  EXPECT_THROW(prefilterDisplacement(flat, base, s), std::invalid_argument);
+}
+
 TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb::Zero(), Rgb::Constant(0.8));
   DisplacementPrefilterSettings s = test::smallPrefilterSettings();
