@@ -23,14 +23,17 @@ MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretc
     for (Triangle& t : triangles)
       for (Vec3& vertex : t) vertex = stretched(vertex);
   highest_ = -std::numeric_limits<double>::infinity();
+  double lowest = std::numeric_limits<double>::infinity();
   lo_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   hi_ = -lo_;
   for (const Triangle& t : triangles)
     for (const Vec3& vertex : t) {
       highest_ = std::max(highest_, vertex.z());
+      lowest = std::min(lowest, vertex.z());
       lo_ = lo_.cwiseMin(vertex.head<2>());
       hi_ = hi_.cwiseMax(vertex.head<2>());
     }
+  chord_sag_ = std::max((highest_ - lowest) * kChordSagOfRelief, 1e-12);
   scene_->addDiffuse(triangles, Rgb::Zero());
   scene_->commit();
 }
@@ -68,13 +71,12 @@ bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
 }
 
 // The ray origin + t w + z bend t^2, bend = base_curvature |w_xy|^2 / 2, in pieces of length
-// `step` whose chords stray from it by bend step^2 / 8 at most, until it rises above the field's
-// highest point or leaves its box: chord(a, b, t_min) for each, until it returns true.
+// `step` whose chords stray from it by bend step^2 / 4 = chord_sag_ at most, until it rises above
+// the field's highest point or leaves its box: chord(a, b, t_min) for each, until it returns true.
 template <typename Chord>
 void MicroGeometry::followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const {
   const double bend = base_curvature_ * w.head<2>().squaredNorm() / 2;
-  const double tolerance = field_.cellSize() / 10;
-  const double step = std::sqrt(8 * tolerance / bend);
+  const double step = std::sqrt(4 * chord_sag_ / bend);  // the chord over [0, step] strays by bend t (step - t)
   const auto at = [&](double t) { return Vec3(origin + t * w + Vec3(0, 0, bend * t * t)); };
   const auto outside = [&](const Vec3& x) {
     return x.z() > highest_ || (x.head<2>().array() < lo_.array()).any() || (x.head<2>().array() > hi_.array()).any();

@@ -46,7 +46,7 @@ class MicroGeometry {
   Point at(double u, double v) const;
   // Whether w leaves the point without meeting the surface again (rays beyond the field escape).
   // On a curved base the ray rises above the map by (t |w_xy|)^2 base_curvature / 2 at t, followed
-  // in straight pieces whose chords stray from it by at most a tenth of a cell's side.
+  // in straight pieces whose chords stray from it by at most a thousandth of the field's relief.
   bool unoccluded(const Point& p, const Vec3& w) const;
   // The first point that a ray from p along w meets, if any (none past the field's edges); over a
   // curved base followed as unoccluded() follows it.
@@ -65,6 +65,11 @@ class MicroGeometry {
   TileStretch stretch_;
   double base_curvature_;
   double highest_;  // the field's highest point
+  // How far a curved ray's chords may stray from it: a fraction of the field's relief, the same for a
+  // map and its h_low whatever their cells (a tenth of a cell, as first, let h_low's rays at 32x
+  // pass 10% of a bump's height higher than the original's, and so shadow and mask it less).
+  static constexpr double kChordSagOfRelief = 1e-3;
+  double chord_sag_;
   Eigen::Vector2d lo_, hi_;  // the box of the surface's (x, y)
   std::unique_ptr<SurfaceScene> scene_;
 };

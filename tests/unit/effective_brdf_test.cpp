@@ -125,6 +125,26 @@ TEST(MicroGeometry, CurvedBaseLetsARayClearWhatThePlaneHides) {
   EXPECT_THROW(MicroGeometry(field, {}, -1), std::invalid_argument);
 }
 
+// A map and a coarse map of the same ridge (cells of 0.01 and 0.1) see it alike over a curved base:
+// 5% below the analytic curvature the ray stays hidden, 5% above it clears. The chords' stray is a
+// fraction of the relief, not of a cell: at a tenth of the coarse cell the ray passed the ridge
+// 0.014 higher than the curve does and cleared it 5% below the threshold (it misses by 0.0025).
+TEST(MicroGeometry, CurvedBaseSeesTheSameRidgeAtAnyCellSize) {
+  const Vec3 toward_ridge = Vec3(0, -1, 0.1).normalized();
+  const double D = 0.505, threshold = 2 * (0.1 - D * 0.1) / (D * D);
+  for (const int cells : {200, 20}) {
+    const double cell = 2.0 / cells;
+    HeightField field(cells, cells, cell);
+    for (int i = 0; i <= cells; ++i) field.at(i, cells / 2) = 0.1;  // the ridge along x at y = 1
+    for (const double kappa : {0.95 * threshold, 1.05 * threshold}) {
+      const MicroGeometry geometry(field, {}, kappa);
+      const MicroGeometry::Point p = geometry.at(1.005 / cell, 1.505 / cell);
+      EXPECT_EQ(geometry.unoccluded(p, toward_ridge), kappa > threshold) << cells << " cells, " << kappa;
+      EXPECT_EQ(geometry.trace(p, toward_ridge).has_value(), kappa < threshold) << cells << " cells, " << kappa;
+    }
+  }
+}
+
 // trace() over a curved base follows the same bent ray: toward the ridge of the test above, below the
 // threshold curvature the ray meets the ridge (on its near side, y >= 1 - one cell), above it the ray
 // clears it and meets nothing on the map; on the plane it meets the ridge where the straight ray does.
