@@ -45,13 +45,6 @@ HeightField window(const HeightField& field, int i0, int j0, int cells_x, int ce
   return w;
 }
 
-double meanHeight(const HeightField& h, int u0, int v0, int count) {  // of count^2 cells' corners
-  double sum = 0;
-  for (int v = v0; v < v0 + count; ++v)
-    for (int u = u0; u < u0 + count; ++u) sum += (h.at(u, v) + h.at(u + 1, v) + h.at(u, v + 1) + h.at(u + 1, v + 1)) / 4;
-  return sum / (count * count);
-}
-
 struct Sums {
   double original = 0, model = 0, tables = 0;
   double ratio() const { return original / model; }
@@ -75,7 +68,7 @@ void run(const Settings& s) {
     const Point2 p = random.uniform2();
     const int u = halo + std::min(int(p.x() * (n - 2 * halo - 1)), n - 2 * halo - 2);
     const int v = halo + std::min(int(p.y() * (coarse.cellsY() - 2 * halo - 1)), coarse.cellsY() - 2 * halo - 2);
-    const bool upper = meanHeight(coarse, u, v, 1) > meanHeight(coarse, u - 2, v - 2, 6);
+    const bool upper = window(coarse, u, v, 1, 1).meanHeight() > window(coarse, u - 2, v - 2, 6, 6).meanHeight();
     const MultiLobeBrdf f_low(file.surface.ndfs[std::size_t(u) + std::size_t(n) * v], file.base);
     const double T_S = file.surface.scaling(Point2((u + 0.5) / n, (v + 0.5) / coarse.cellsY()), wi, wo)[0];
     for (const int kind : {0, 1, 2}) {  // the map in front; nothing in front (upper cells); curved

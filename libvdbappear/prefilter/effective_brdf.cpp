@@ -66,7 +66,7 @@ double MicroGeometry::rayEpsilon() const {
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  if (base_curvature_ * w.head<2>().squaredNorm() > 0) return unoccludedOverCurvedBase(origin, w, eps);
+  if (bendOf(w) > 0) return unoccludedOverCurvedBase(origin, w, eps);
   return !scene_->occluded(origin, w, eps, 1e30);
 }
 
@@ -75,7 +75,7 @@ bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
 // the field's highest point or leaves its box: chord(a, b, t_min) for each, until it returns true.
 template <typename Chord>
 void MicroGeometry::followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const {
-  const double bend = base_curvature_ * w.head<2>().squaredNorm() / 2;
+  const double bend = bendOf(w);
   const double step = std::sqrt(4 * chord_sag_ / bend);  // the chord over [0, step] strays by bend t (step - t)
   const auto at = [&](double t) { return Vec3(origin + t * w + Vec3(0, 0, bend * t * t)); };
   const auto outside = [&](const Vec3& x) {
@@ -111,7 +111,7 @@ MicroGeometry::Point MicroGeometry::pointOf(const Vec3& x, const Vec3& normal) c
 std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  if (!(base_curvature_ * w.head<2>().squaredNorm() > 0)) {
+  if (!(bendOf(w) > 0)) {
     const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
     if (!hit) return std::nullopt;
     return pointOf(origin + hit->t * w, hit->normal);

@@ -57,6 +57,8 @@ class MicroGeometry {
  private:
   double rayEpsilon() const;
   Vec3 stretched(const Vec3& on_map) const;
+  // How fast a ray along w rises above the map: origin + t w + z bend t^2 (0 on a plane, or straight up).
+  double bendOf(const Vec3& w) const { return base_curvature_ * w.head<2>().squaredNorm() / 2; }
   bool unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const;
   template <typename Chord>
   void followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const;

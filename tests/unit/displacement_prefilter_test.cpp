@@ -26,10 +26,16 @@
 namespace vdbappear {
 namespace {
 
-TEST(DisplacementPrefilter, FlatMapNeedsNoScaling) {
+// 32^2 cells of 0.01 at height 0.05.
+HeightField flatMap() {
   HeightField flat(32, 32, 0.01);
   for (int j = 0; j <= 32; ++j)
     for (int i = 0; i <= 32; ++i) flat.at(i, j) = 0.05;
+  return flat;
+}
+
+TEST(DisplacementPrefilter, FlatMapNeedsNoScaling) {
+  const HeightField flat = flatMap();
   const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.4), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
   const PrefilteredSurface p = prefilterDisplacement(flat, base, test::smallPrefilterSettings());
   EXPECT_EQ(p.height.cellsX(), 4);
@@ -124,9 +130,7 @@ TEST(DisplacementPrefilter, TablesOverAConvexBaseShadowAndMaskLess) {
   std::printf("S over a base of radius 10 cells: up to %.3f times the plane's\n", gain);
   EXPECT_GT(gain, 1.05);
 
-  HeightField flat(32, 32, 0.01);
-  for (int j = 0; j <= 32; ++j)
-    for (int i = 0; i <= 32; ++i) flat.at(i, j) = 0.05;
+  const HeightField flat = flatMap();
   s.factor = 8;
   const PrefilteredSurface p = prefilterDisplacement(flat, base, s);
   for (const Rgb& v : p.scaling.S.values) EXPECT_LT((v - 1).abs().maxCoeff(), 2e-3) << v.transpose();
