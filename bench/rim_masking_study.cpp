@@ -9,7 +9,8 @@
 // cells whose centre stands above the mean of the 6 x 6 coarse cells about them are the "upper"
 // ones. Prints R of all cells with the map in front (what the tables average), R of the upper cells
 // with nothing in front (what the rim shows), and the model's T S over the same upper cells, each
-// weighed by the model's light as a bin weighs it.
+// weighed by the model's light as a bin weighs it. With --base-curvature also R of every cell over
+// that base, and of its upper and lower cells apart (docs/displacement.md §6, "The relief term").
 #include "libvdbappear/image/height_map_file.h"
 #include "libvdbappear/math/random_stream.h"
 #include "libvdbappear/prefilter/effective_brdf.h"
@@ -63,7 +64,7 @@ void run(const Settings& s) {
   e.samples_per_side = s.samples_per_side;
   const PatchBrdf one = [](const Vec3&, const Vec3&, const Vec3&, const Vec3&) { return Rgb(Rgb::Ones()); };
   RandomStream random(s.seed, {0});
-  Sums all_in_front, upper_alone, curved;
+  Sums all_in_front, upper_alone, curved, curved_upper, curved_lower;
   for (int k = 0; k < s.cells; ++k) {
     const Point2 p = random.uniform2();
     const int u = halo + std::min(int(p.x() * (n - 2 * halo - 1)), n - 2 * halo - 2);
@@ -86,6 +87,12 @@ void run(const Settings& s) {
       sums.original += o.value[0] * o.visible_area;
       sums.model += model;
       sums.tables += T_S * model;
+      if (kind == 2) {
+        Sums& half = upper ? curved_upper : curved_lower;
+        half.original += o.value[0] * o.visible_area;
+        half.model += model;
+        half.tables += T_S * model;
+      }
     }
   }
   std::printf("theta_i %g, theta_o %g, azimuth %g: R of all cells with the map in front %.4f (T S %.4f); "
@@ -96,6 +103,10 @@ void run(const Settings& s) {
   if (s.base_curvature > 0)
     std::printf("  over a base of curvature %g, all cells with the map in front: R %.4f (T S %.4f, %+.1f%%)\n", s.base_curvature,
                 curved.ratio(), curved.tables / curved.model, 100 * (curved.tables / curved.original - 1));
+  if (s.base_curvature > 0)
+    std::printf("  over it, the upper cells: R %.4f (T S %+.1f%%), the lower: R %.4f (T S %+.1f%%)\n", curved_upper.ratio(),
+                100 * (curved_upper.tables / curved_upper.original - 1), curved_lower.ratio(),
+                100 * (curved_lower.tables / curved_lower.original - 1));
 }
 
 }  // namespace

@@ -45,7 +45,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--curved-tables] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--curved-tables] [--relief-radius 0] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -159,12 +159,15 @@ def same_brdf(written, brdf):
         all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
 
 
-def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0):
+def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0,
+             relief_radius=0):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
     if abs(m.get("settings", {}).get("base_curvature", 0.0) - base_curvature) > 1e-9:
+        return False
+    if m.get("settings", {}).get("relief_radius", 0) != relief_radius:
         return False
     if m.get("settings", {}).get("stretches", []) != (stretches.split(",") if stretches else []):
         return False
@@ -195,12 +198,13 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # "Tables for a curved base").
     curvature = CURVED[surface]["curvature"] if args.curved_tables and surface in CURVED else 0.0
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
-                    curvature):
+                    curvature, args.relief_radius):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
-            (["--base-curvature", curvature] if curvature else []))
+            (["--base-curvature", curvature] if curvature else []) +
+            (["--relief-radius", args.relief_radius] if args.relief_radius else []))
     return manifest, json.loads(report.read_text())
 
 
@@ -521,12 +525,13 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
               "\"Stretched T S\": the tables of the tiles of `--ball-stretches` (docs/displacement.md §6), made "
               "within \"scaling s\".", "",
               "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | "
-              "stretched T S | S range |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "B (relief term) | stretched T S B | S range |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for t in timing_rows:
         s, b, rng = t["seconds"], t["bytes"], t["ranges"]["S"]
         lines.append(f"| {t['surface']} | {t['factor']}x | {t['scaling']} | {s['height']:.2f} | {s['ndfs']:.1f} |"
                      f" {s['scaling']:.1f} | {b['original_height']} | {b['height']} | {b['svndf']} | {b['T']} | {b['S']} |"
+                     f" {b.get('B', 0)} |"
                      f" {b.get('stretched_tables', 0)} | {rng['min']:.2f}-{rng['max']:.2f} |")
     lines += ["", "## Images", "", "Each `*_sbs.png`: reference | model | signed relative error (red brighter, blue "
               "darker, saturated at 50%)."]
@@ -580,6 +585,9 @@ def main():
     parser.add_argument("--curved-tables", action="store_true",
                         help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
                              "the torus's outer half's mean curvature; docs/displacement.md §6); off: over a plane")
+    parser.add_argument("--relief-radius", type=int, default=0,
+                        help="every model's tables with the relief term over h_low's (2 R + 1)^2 cells about each "
+                             "(docs/displacement.md §6, \"The relief term\"); 0: the chapter's T S")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")

@@ -85,7 +85,10 @@ nlohmann::json storage(const HeightField& fine, const PrefilteredSurface& p) {
           {"svndf", floats(p.ndfs.size() * lobes * 5)},
           {"T", floats(3 * p.scaling.T.values.size())},
           {"S", floats(3 * p.scaling.S.values.size())},
-          {"stretched_tables", floats(3 * p.stretched.size() * (p.scaling.T.values.size() + p.scaling.S.values.size()))}};
+          {"B", floats(3 * p.scaling.S.relief_slopes.size())},  // the relief term's (0 without)
+          {"stretched_tables", floats(3 * p.stretched.size() *
+                                      (p.scaling.T.values.size() + p.scaling.S.values.size() +
+                                       p.scaling.S.relief_slopes.size()))}};
 }
 
 // The range of a table's first channel (min, mean, max): what a user checks first.
@@ -105,8 +108,9 @@ int prefilter(const Options& o, const std::string& history) {
     tool::checkOutputs(o.input, prefilteredPartPath(o.output, part), "");
   DisplacementPrefilterSettings settings = o.settings;
   for (const std::string& text : o.stretches) settings.stretches.push_back(parseStretch(text));
+  if (settings.relief_radius > 0) tool::checkOutputs(o.input, prefilteredPartPath(o.output, "B"), "");
   for (std::size_t k = 1; k <= settings.stretches.size(); ++k)
-    for (const char* table : {"T", "S"})
+    for (const char* table : {"T", "S", "B"})
       tool::checkOutputs(o.input, prefilteredPartPath(o.output, fmt::format("stretch{}.{}", k, table)), "");
   nlohmann::json brdf;
   try {
@@ -120,11 +124,13 @@ int prefilter(const Options& o, const std::string& history) {
   const double read_seconds = clock.lap();
 
   settings.samples_per_side = std::max(1, int(std::lround(std::sqrt(double(o.paths)))));
-  PrefilteredSurfaceFile file{{}, base, {o.input, settings.factor, o.size, o.height_scale, settings.scaling}};
+  PrefilteredSurface prefiltered;
   {
     ProgressBar progress("scaling tables", 0);
-    file.surface = prefilterDisplacement(fine, base, settings, &progress);
+    prefiltered = prefilterDisplacement(fine, base, settings, &progress);
   }
+  const PrefilteredSurfaceFile file{std::move(prefiltered), base,
+                                    {o.input, settings.factor, o.size, o.height_scale, settings.scaling}};
   const PrefilteredSurface& p = file.surface;
   const auto& f = settings.factorization;
   const nlohmann::json recorded = {
@@ -140,6 +146,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"view_horizon_degrees", f.view_horizon_degrees},
       {"stretches", o.stretches},
       {"base_curvature", settings.base_curvature},
+      {"relief_radius", settings.relief_radius},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
   writePrefilteredSurface(file, o.output, recorded);
@@ -250,6 +257,12 @@ int main(int argc, char** argv) {
   app.add_option("--base-curvature", s.base_curvature,
                  "make the tables over a convex base of this curvature (1 / world units; a sphere of radius r: "
                  "1 / r), whose bumps shadow and mask less at grazing angles; 0: a plane (docs/displacement.md §6)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--relief-radius", s.relief_radius,
+                 "also fit R's relief term, R = T(x) [S + B z(x)] with z how far each of h_low's cells stands "
+                 "above the (2 R + 1)^2 cells about it, which R depends on at grazing views (a curved base's "
+                 "rim); 0: the chapter's T S (docs/displacement.md §6, \"The relief term\")")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--seed", s.seed, "random seed (same output for any thread count)")->capture_default_str();

@@ -34,6 +34,10 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
       fail("a tile's stretch must be finite with a positive determinant (it may not mirror or flatten the tile)");
   if (!(s.base_curvature >= 0) || !std::isfinite(s.base_curvature))
     fail("the base's curvature must be finite and not negative (a convex base or a plane)");
+  const int coarse_cells = std::min(fine.cellsX(), fine.cellsY()) / s.factor;
+  if (s.relief_radius < 0 || 2 * s.relief_radius + 1 > coarse_cells)
+    fail("the relief's radius must be 0 (none) or span at most the coarse map's " + std::to_string(coarse_cells) +
+         " cells (2 r + 1)");
 }
 
 // R of Eq. (4.12) or R_ir of Eq. (4.20) at coarse cell (u, v): the original's effective BRDF over
@@ -199,11 +203,13 @@ PrefilteredSurface prefilterDisplacement(const HeightField& fine, const Microfac
   result.ndfs = fitPatchNdfs(fine, s);  // step 2
   result.seconds.ndfs = clock.lap();
   // Steps 3-4, for the square tile and each stretched one.
+  const CellRelief relief = s.relief_radius > 0 ? cellRelief(result.height, s.relief_radius) : CellRelief();
   const auto scalingOf = [&](const TileStretch& stretch, ProgressBar* bar) {
     const ScalingEstimator R(fine, result, base, s, stretch);
     const ViewScalingSampler R_view = [&R](int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
                                            const Vec3& wo, ScalingSample* out) { R.forView(u, v, visit, wis, wo, out); };
-    return factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(), s.factorization, bar, R_view);
+    return factorizeScaling(std::cref(R), result.height.cellsX(), result.height.cellsY(), s.factorization, bar, R_view,
+                            relief.empty() ? nullptr : &relief);
   };
   if (progress) progress->setTotal((1 + s.stretches.size()) * tableBins(s.factorization));
   result.scaling = scalingOf(TileStretch(), progress);

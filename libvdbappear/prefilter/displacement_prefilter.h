@@ -44,6 +44,10 @@ struct DisplacementPrefilterSettings {
   // base's bumps shadow and mask, and where R_ir's paths bounce, is what R counts (MicroGeometry).
   // 0: a plane, the chapter's. docs/displacement.md §6, "Tables for a curved base".
   double base_curvature = 0;
+  // With r > 0, S also holds the relief term: R ~ T(x) [S(wi, wo) + B(wi, wo) z(x)], z the relief of
+  // h_low's cells over the (2r + 1)^2 cells about them (surface/cell_relief.h), which R depends on at
+  // grazing views. 0: the chapter's rank one. docs/displacement.md §6, "The relief term".
+  int relief_radius = 0;
   std::uint64_t seed = 1;
 };
 

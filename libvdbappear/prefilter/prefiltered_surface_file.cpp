@@ -85,6 +85,9 @@ ImageChannels spatialImage(const SpatialScaling& T) { return rgbTable(spatialRow
 ImageChannels angularImage(const AngularScaling& S) {
   return rgbTable(S.values, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
 }
+ImageChannels reliefSlopeImage(const AngularScaling& S) {  // B, laid out as S
+  return rgbTable(S.relief_slopes, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
+}
 
 Rgb pixelRgb(const ImageChannels& image, int column, int row) {
   return {pixel(image, column, row, 0), pixel(image, column, row, 1), pixel(image, column, row, 2)};
@@ -137,9 +140,12 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
       {"lobes", lobeImage(s.ndfs, cells_x, cells_y)},
       {"T", spatialImage(s.scaling.T)},
       {"S", angularImage(s.scaling.S)}};
+  const bool relief = !s.scaling.S.relief_slopes.empty();
+  if (relief) parts.emplace_back("B", reliefSlopeImage(s.scaling.S));
   for (std::size_t k = 0; k < s.stretched.size(); ++k) {
     parts.emplace_back(fmt::format("stretch{}.T", k + 1), spatialImage(s.stretched[k].scaling.T));
     parts.emplace_back(fmt::format("stretch{}.S", k + 1), angularImage(s.stretched[k].scaling.S));
+    if (relief) parts.emplace_back(fmt::format("stretch{}.B", k + 1), reliefSlopeImage(s.stretched[k].scaling.S));
   }
   std::vector<std::unique_ptr<AtomicFile>> outputs;
   json files;
@@ -156,10 +162,12 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
     stretched.push_back({{"stretch", {{m(0, 0), m(0, 1)}, {m(1, 0), m(1, 1)}}},
                          {"T", files[name + ".T"]},
                          {"S", files[name + ".S"]}});
+    if (relief) stretched.back()["B"] = files[name + ".B"];
     files.erase(name + ".T");
     files.erase(name + ".S");
+    files.erase(name + ".B");
   }
-  const json manifest = {{"format", kFormat},
+  json manifest = {{"format", kFormat},
                          {"version", kVersion},
                          {"source", file.info.source},
                          {"factor", file.info.factor},
@@ -174,6 +182,7 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
                          {"files", files},
                          {"stretched", stretched},
                          {"settings", extra}};
+  if (relief) manifest["relief_radius"] = s.scaling.relief.radius;
   AtomicFile output(manifest_path);
   {
     std::ofstream stream(output.temporaryPath());
@@ -229,11 +238,23 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
     }
     const bool view_horizon = m.value("view_horizon", false);  // wo's horizon nodes (S's width (N + 2)^2)
     const int V = view_horizon ? N + 2 : N;
-    const auto tables = [&](const std::string& T_path, const std::string& S_path) {
-      return FactorizedScaling{spatialTable(readPart(T_path, M, M, 3), M),
-                               angularTable(readPart(S_path, V * V, N * N, 3), N, view_horizon)};
+    // The relief term (docs/displacement.md §6): B beside each S, and z from h_low.
+    const int relief_radius = m.value("relief_radius", 0);
+    if (relief_radius < 0 || 2 * relief_radius + 1 > std::min(cells_x, cells_y))
+      fail(manifest_path, "\"relief_radius\" must be 0 or at least 1 with 2 r + 1 cells within the map");
+    const CellRelief relief = relief_radius > 0 ? cellRelief(s.height, relief_radius) : CellRelief();
+    const auto tables = [&](const json& files) {
+      const auto path = [&](const char* name) { return (folder / files.at(name).get<std::string>()).string(); };
+      FactorizedScaling scaling;
+      scaling.T = spatialTable(readPart(path("T"), M, M, 3), M);
+      scaling.S = angularTable(readPart(path("S"), V * V, N * N, 3), N, view_horizon);
+      if (relief_radius > 0) {
+        scaling.S.relief_slopes = angularTable(readPart(path("B"), V * V, N * N, 3), N, view_horizon).values;
+        scaling.relief = relief;
+      }
+      return scaling;
     };
-    s.scaling = tables(part("T"), part("S"));
+    s.scaling = tables(m.at("files"));
     for (const json& table : m.value("stretched", json::array())) {
       const json& rows = table.at("stretch");
       Eigen::Matrix2d stretch;
@@ -241,8 +262,7 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
           rows.at(1).at(1).get<double>();
       if (!stretch.allFinite() || !(stretch.determinant() > 0))
         fail(manifest_path, "a \"stretched\" table's \"stretch\" must be finite with a positive determinant");
-      s.stretched.push_back({TileStretch(stretch), tables((folder / table.at("T").get<std::string>()).string(),
-                                                          (folder / table.at("S").get<std::string>()).string())});
+      s.stretched.push_back({TileStretch(stretch), tables(table)});
     }
     return {std::move(s), base, info};
   } catch (const json::exception& e) {

@@ -6,6 +6,8 @@
 //   OUT.T.exr       T_ir(x), M x M RGB;   OUT.S.exr  S_ir(wi, wo), N^2 x N^2 RGB;
 // and for each stretched tile's tables (PrefilteredSurface::stretched) OUT.stretchK.T.exr and
 // OUT.stretchK.S.exr, K from 1, listed with their stretch under the manifest's "stretched" key.
+// With the relief term (a manifest's "relief_radius" r > 0) each S has its B beside it, OUT.B.exr
+// and OUT.stretchK.B.exr, laid out as S; z is h_low's CellRelief of radius r, made anew on reading.
 // Part of the image library (vdbappear::image).
 
 #include "libvdbappear/prefilter/displacement_prefilter.h"

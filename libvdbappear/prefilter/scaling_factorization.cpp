@@ -74,47 +74,82 @@ Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, const ScalingSamp
   return (jackknifed.isFinite() && jackknifed >= 0).select(jackknifed, plain);
 }
 
+// An S bin's samples: their sums, and for the relief term those of m z, m z^2 and o z (o, m the
+// original's and the prefiltered model's light, z the sample cell's relief).
+struct AngularBinSums {
+  ScalingSample sum;
+  Rgb mz = Rgb::Zero(), mzz = Rgb::Zero(), oz = Rgb::Zero();
+  std::vector<ScalingSample> samples;  // kept for the jackknife only
+  void add(const ScalingSample& sample, double z, bool keep) {
+    vdbappear::add(&sum, sample);
+    mz += sample.prefiltered * z;
+    mzz += sample.prefiltered * (z * z);
+    oz += sample.original * z;
+    if (keep) samples.push_back(sample);
+  }
+};
+
+// The relief term's slope B of a bin: the weighted least squares of the samples' ratios
+// r = o / m on their cells' z, weights m (the light each sends, as the ratio of sums weighs it):
+//   B = cov_m(r, z) / var_m(z) = [sum o z - sum o sum m z / sum m] / [sum m z^2 - (sum m z)^2 / sum m],
+// 0 where z barely varies over the bin's light (a flat map, a bin of one sample).
+Rgb reliefSlope(const AngularBinSums& b) {
+  const Rgb m = b.sum.prefiltered.max(1e-300);
+  const Rgb variance = b.mzz - b.mz * b.mz / m, covariance = b.oz - b.sum.original * b.mz / m;
+  return (variance > 1e-9 * m).select(covariance / variance.max(1e-300), Rgb::Zero());
+}
+
+struct AngularBinValue {
+  Rgb intercept, slope;  // S, and B with the relief term (0 without): R = S + B z
+};
+
+// A bin's S, R's ratio of sums (jackknifed or plain) capped at max_scaling; with the relief term
+// the fit's intercept S - B z_m, z_m = sum m z / sum m the bin's mean z as its light weighs it, so
+// that S + B z_m, what the bin's own cells reflect together, is that ratio.
+AngularBinValue angularBinValue(const AngularBinSums& b, bool relief, const FactorizationSettings& s) {
+  const Rgb S = (s.jackknife ? jackknifedRatio(b.samples, b.sum, s.epsilon) : ratio(b.sum, s.epsilon)).min(s.max_scaling);
+  if (!relief) return {S, Rgb::Zero()};
+  const Rgb B = reliefSlope(b);
+  return {S - B * b.mz / b.sum.prefiltered.max(1e-300), B};
+}
+
 // S's bin: R at the bins' directions over positions stratified over the whole map, one per stratum.
 // `key` keys its random numbers.
-Rgb angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::int64_t key, int cells_x, int cells_y,
-               const FactorizationSettings& s) {
+AngularBinValue angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::int64_t key, int cells_x,
+                           int cells_y, const CellRelief* relief, const FactorizationSettings& s) {
   const int count = s.positions_per_angular_bin;
   const Strata strata(count);
   RandomStream rng(s.seed, {1, key});
-  ScalingSample sum;
-  std::vector<ScalingSample> samples;  // kept for the jackknife only
-  if (s.jackknife) samples.reserve(std::size_t(count));
+  AngularBinSums sums;
+  if (s.jackknife) sums.samples.reserve(std::size_t(count));
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    const ScalingSample sample = R(cu, cv, std::uint64_t(k), wi, wo);
-    add(&sum, sample);
-    if (s.jackknife) samples.push_back(sample);
+    sums.add(R(cu, cv, std::uint64_t(k), wi, wo), relief ? relief->at(cu, cv) : 0.0, s.jackknife);
   }
-  return s.jackknife ? jackknifedRatio(samples, sum, s.epsilon) : ratio(sum, s.epsilon);
+  return angularBinValue(sums, relief != nullptr, s);
 }
 
 // With shared_positions, S's bins of one wo (bin wo_bin): R at every wi bin's direction over the same positions, stratified
 // over the whole map, drawn from a stream keyed by the wo bin; out[k] for wis[k].
 void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis, const Vec3& wo, std::int64_t wo_key,
-                       int cells_x, int cells_y, const FactorizationSettings& s, Rgb* out) {
+                       int cells_x, int cells_y, const CellRelief* relief, const FactorizationSettings& s,
+                       AngularBinValue* out) {
   const int count = s.positions_per_angular_bin;
   const Strata strata(count);
   RandomStream rng(s.seed, {2, wo_key});
-  std::vector<ScalingSample> sums(wis.size()), batch(wis.size());
-  std::vector<std::vector<ScalingSample>> samples(s.jackknife ? wis.size() : 0);  // for the jackknife only
-  for (auto& bin : samples) bin.reserve(std::size_t(count));
+  std::vector<AngularBinSums> sums(wis.size());
+  std::vector<ScalingSample> batch(wis.size());
+  for (auto& bin : sums)
+    if (s.jackknife) bin.samples.reserve(std::size_t(count));
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
     R(cu, cv, std::uint64_t(k), wis, wo, batch.data());
-    for (std::size_t w = 0; w < wis.size(); ++w) {
-      add(&sums[w], batch[w]);
-      if (s.jackknife) samples[w].push_back(batch[w]);
-    }
+    const double z = relief ? relief->at(cu, cv) : 0.0;
+    for (std::size_t w = 0; w < wis.size(); ++w) sums[w].add(batch[w], z, s.jackknife);
   }
-  for (std::size_t w = 0; w < wis.size(); ++w)
-    out[w] = s.jackknife ? jackknifedRatio(samples[w], sums[w], s.epsilon) : ratio(sums[w], s.epsilon);
+  for (std::size_t w = 0; w < wis.size(); ++w) out[w] = angularBinValue(sums[w], relief != nullptr, s);
 }
 
 // wo at S's node (oa, ob) (a bin centre, or with view_horizon one on the horizon), its polar angle
@@ -157,12 +192,14 @@ ViewScalingSampler sampledPerLight(ScalingSampler R) {
 
 FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
                                    const FactorizationSettings& s, ProgressBar* progress,
-                                   const ViewScalingSampler& R_view) {
+                                   const ViewScalingSampler& R_view, const CellRelief* relief) {
   if (cells_x < 1 || cells_y < 1 || s.spatial_resolution < 1 || s.angular_resolution < 1 ||
       s.pairs_per_spatial_bin < 1 || s.positions_per_angular_bin < 1)
     throw std::invalid_argument("factorizeScaling: empty map, table or sample count");
   if (!(s.view_horizon_degrees >= 0 && s.view_horizon_degrees < 90))
     throw std::invalid_argument("factorizeScaling: the view's horizon nodes at 0 (none) or below 90 degrees");
+  if (relief && (relief->empty() || relief->cells_x != cells_x || relief->cells_y != cells_y))
+    throw std::invalid_argument("factorizeScaling: the relief is not of the map's coarse cells");
   const int M = s.spatial_resolution, N = s.angular_resolution;
   FactorizedScaling result;
   result.T.resolution = M;
@@ -171,6 +208,14 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
   result.S.view_horizon = s.view_horizon_degrees > 0;
   const int V = result.S.viewNodes();
   result.S.values.assign(std::size_t(N) * N * V * V, Rgb::Zero());
+  if (relief) {
+    result.S.relief_slopes.assign(result.S.values.size(), Rgb::Zero());
+    result.relief = *relief;
+  }
+  const auto store = [&](std::size_t index, const AngularBinValue& value) {
+    result.S.values[index] = value.intercept;
+    if (relief) result.S.relief_slopes[index] = value.slope;
+  };
 
   tbb::parallel_for(std::size_t(0), result.T.values.size(), [&](std::size_t bin) {
     result.T.values[bin] = spatialBin(R, int(bin % M), int(bin / M), cells_x, cells_y, s);
@@ -189,7 +234,7 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
       const Vec3 wi = limitPolarAngle(result.S.binDirection(ia, ib), max_theta);
       const Vec3 wo = viewAtNode(result.S, oa, ob, s);
       const std::int64_t key = angularKey(result.S, ia, ib, oa, ob);
-      result.S.values[result.S.index(ia, ib, oa, ob)] = angularBin(R, wi, wo, key, cells_x, cells_y, s).min(s.max_scaling);
+      store(result.S.index(ia, ib, oa, ob), angularBin(R, wi, wo, key, cells_x, cells_y, relief, s));
       if (progress) progress->advance();
     });
     return result;
@@ -203,11 +248,10 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
     const Vec3 wo = viewAtNode(result.S, oa, ob, s);
     // wo's key: as angularKey() keys a bin of wi bin 0 (its bin without horizon nodes, or past them).
     const std::int64_t key = angularKey(result.S, 0, 0, oa, ob);
-    std::vector<Rgb> values(wis.size());
-    angularBinsOfView(per_view, wis, wo, key, cells_x, cells_y, s, values.data());
+    std::vector<AngularBinValue> values(wis.size());
+    angularBinsOfView(per_view, wis, wo, key, cells_x, cells_y, relief, s, values.data());
     for (int ib = 0; ib < N; ++ib)
-      for (int ia = 0; ia < N; ++ia)
-        result.S.values[result.S.index(ia, ib, oa, ob)] = values[std::size_t(ia + N * ib)].min(s.max_scaling);
+      for (int ia = 0; ia < N; ++ia) store(result.S.index(ia, ib, oa, ob), values[std::size_t(ia + N * ib)]);
     if (progress) progress->advance(wis.size());
   });
   return result;

@@ -80,9 +80,14 @@ struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
 // shared_positions those of one wo from R_view (R a call per wi when it is empty). Deterministic
 // under the seed for any thread count. `progress` advances by one per bin (tableBins()); its total
 // is the caller's to set.
+//
+// With `relief` (h_low's, of the same cells) each S bin also fits the relief term: R = S + B z over
+// its samples (weighted least squares of their ratios on their cells' z, weights the model's
+// light), storing the intercept and B (AngularScaling::relief_slopes); the result keeps the relief.
+// T's bins are as without it (their positions span the map's relief evenly).
 FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cells_y,
                                    const FactorizationSettings& settings, ProgressBar* progress = nullptr,
-                                   const ViewScalingSampler& R_view = {});
+                                   const ViewScalingSampler& R_view = {}, const CellRelief* relief = nullptr);
 
 // The bins of T and S together: M^2 + N^4, or M^2 + N^2 (N + 2)^2 with the view's horizon nodes.
 std::uint64_t tableBins(const FactorizationSettings& settings);

@@ -41,7 +41,7 @@ Rgb SpatialScaling::operator()(const Point2& x) const {
 
 Point2 SpatialScaling::binCentre(int a, int b) const { return {(a + 0.5) / resolution, (b + 0.5) / resolution}; }
 
-Rgb AngularScaling::operator()(const Vec3& wi, const Vec3& wo) const {
+Rgb AngularScaling::read(const std::vector<Rgb>& table, const Vec3& wi, const Vec3& wo) const {
   const Point2 si = hemisphereToSquare(Vec3(wi.x(), wi.y(), std::max(0.0, wi.z())).normalized());
   const Point2 so = hemisphereToSquare(Vec3(wo.x(), wo.y(), std::max(0.0, wo.z())).normalized());
   const auto view_axis = [&](double s) {
@@ -58,7 +58,7 @@ Rgb AngularScaling::operator()(const Vec3& wi, const Vec3& wo) const {
       i[k] = upper ? axes[k].i1 : axes[k].i0;
       weight *= upper ? axes[k].t : 1 - axes[k].t;
     }
-    if (weight > 0) sum += weight * values[index(i[0], i[1], i[2], i[3])];
+    if (weight > 0) sum += weight * table[index(i[0], i[1], i[2], i[3])];
   }
   return sum;
 }

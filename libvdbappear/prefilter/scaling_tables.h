@@ -7,6 +7,7 @@
 
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/math/vector.h"
+#include "libvdbappear/surface/cell_relief.h"
 
 #include <cstddef>
 
@@ -30,11 +31,17 @@ struct SpatialScaling {
 // Beyond the outermost bin centres (83 degrees at N = 15) S is then read toward its value at the
 // horizon instead of clamped: grazing views, which Eq. (4.5) weighs by alpha_k alone, not by the
 // visible projected area <mu_k, wo> / cos theta_o that the original shows them.
+//
+// With relief_slopes, the relief term's B(wi, wo) on the same nodes (docs/displacement.md §6, "The
+// relief term"): R is then T(x) [S(wi, wo) + B(wi, wo) z(x)], z h_low's CellRelief, and `values`
+// hold R's intercept at z = 0.
 struct AngularScaling {
   int resolution = 1;         // N
   bool view_horizon = false;  // wo's edge nodes
   std::vector<Rgb> values;    // (wi bin (ia, ib), wo node (oa, ob)) at index(ia, ib, oa, ob)
-  Rgb operator()(const Vec3& wi, const Vec3& wo) const;
+  std::vector<Rgb> relief_slopes;  // B at the same indices; empty: none
+  Rgb operator()(const Vec3& wi, const Vec3& wo) const { return read(values, wi, wo); }
+  Rgb reliefSlope(const Vec3& wi, const Vec3& wo) const { return read(relief_slopes, wi, wo); }
   int viewNodes() const { return view_horizon ? resolution + 2 : resolution; }  // per axis of wo's square
   std::size_t index(int ia, int ib, int oa, int ob) const {
     const std::size_t N = resolution, V = viewNodes();
@@ -48,12 +55,21 @@ struct AngularScaling {
     return view_horizon && (oa == 0 || ob == 0 || oa == edge || ob == edge);
   }
   Vec3 viewNodeDirection(int oa, int ob) const;
+
+ private:
+  Rgb read(const std::vector<Rgb>& table, const Vec3& wi, const Vec3& wo) const;  // quadrilinear
 };
 
+// Eq. (4.21), R ~ T(x) S(wi, wo); with the relief term (S.relief_slopes and `relief` of h_low)
+// R ~ T(x) [S(wi, wo) + B(wi, wo) z(x)], not below 0.
 struct FactorizedScaling {
   SpatialScaling T;
   AngularScaling S;
-  Rgb operator()(const Point2& x, const Vec3& wi, const Vec3& wo) const { return T(x) * S(wi, wo); }  // Eq. (4.21)
+  CellRelief relief;  // z of h_low's cells, with S.relief_slopes
+  Rgb operator()(const Point2& x, const Vec3& wi, const Vec3& wo) const {
+    if (S.relief_slopes.empty() || relief.empty()) return T(x) * S(wi, wo);
+    return T(x) * (S(wi, wo) + S.reliefSlope(wi, wo) * relief(x)).max(0.0);
+  }
 };
 
 }  // namespace vdbappear

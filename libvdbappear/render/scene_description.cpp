@@ -548,7 +548,9 @@ void addOpaque(const PlacedMesh& mesh, const Rgb& albedo, const std::optional<Mi
 void placePrefiltered(PrefilteredSurfaceFile file, const HeightFieldDescription& field, const CurvedBase& base,
                       DetailLevels levels, RenderScene* scene, Aabb* bounds) {
   if (!field.scaling) {  // f'_low alone
-    file.surface.scaling = {{1, {Rgb::Ones()}}, {1, false, {Rgb::Ones()}}};
+    file.surface.scaling = FactorizedScaling();  // T = S = 1, no relief term
+    file.surface.scaling.T.values = {Rgb::Ones()};
+    file.surface.scaling.S.values = {Rgb::Ones()};
     file.surface.stretched.clear();
   }
   HeightFieldPlacement placement = field.placement;

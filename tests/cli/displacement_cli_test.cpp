@@ -81,6 +81,22 @@ TEST(DisplacementCli, MapPrefilteredAndRenderedThroughTheTools) {
   for (float v : image.pixels) sum += v;
   EXPECT_GT(sum, 0);
 
+  // With the relief term (docs/displacement.md §6): B beside S, its radius in the manifest, and
+  // vdb_render shading with it.
+  ASSERT_EQ(runCommand(kPrefilter + " " + quote(map) + " " + quote(dir.path("relief.json")) + kQuick + brdf +
+                       " --relief-radius 1 --report " + quote(dir.path("relief_report.json"))).status, 0);
+  EXPECT_TRUE(exists(dir.path("relief.B.exr")));
+  EXPECT_EQ(nlohmann::json::parse(contents(dir.path("relief.json")))["relief_radius"], 1);
+  EXPECT_EQ(nlohmann::json::parse(contents(dir.path("relief_report.json")))["bytes"]["B"].get<int>(), 4 * 3 * 625);
+  std::string relief_scene = contents(dir.path("scene.json"));
+  relief_scene.replace(relief_scene.find("one.json"), 8, "relief.json");
+  std::ofstream(dir.path("relief_scene.json")) << relief_scene;
+  const auto relief_render = runCommand(kRender + " --scene " + quote(dir.path("relief_scene.json")) + " -o " + quote(dir.path("rr.exr")));
+  ASSERT_EQ(relief_render.status, 0) << relief_render.err;
+  double relief_sum = 0;
+  for (float v : readRgbImage(dir.path("rr.exr")).pixels) relief_sum += v;
+  EXPECT_GT(relief_sum, 0);
+
   // Over a mesh by its UVs (a UV sphere; surface/mesh_shell.h). A mesh without UVs is refused,
   // naming it, and nothing is written.
   test::writeObj(dir.path("ball.obj"), test::uvSphere(Vec3(0.5, 0.5, 0), 0.4, 32, 16));
@@ -165,6 +181,8 @@ TEST(DisplacementCli, BadInputIsRefusedAndWritesNothing) {
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --stretch 0:1", "both scales must be positive");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --view-horizon 95", "--view-horizon", true);
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + " --base-curvature -1", "--base-curvature", true);
+  expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + " -f 5 --paths 16 --pairs 5 --relief-radius 3",
+                "the relief's radius must be 0 (none) or span at most the coarse map's 6 cells");
   expectRefused(dir, kPrefilter + " " + quote(dir.path("missing.exr")) + " " + out, "missing.exr");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + quote(dir.path("out.exr")), "OUT must end in .json", true);
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + " --factor 1", "--factor", true);

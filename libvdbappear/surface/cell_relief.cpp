@@ -1,0 +1,48 @@
+#include "libvdbappear/surface/cell_relief.h"
+
+#include "libvdbappear/surface/height_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace vdbappear {
+
+double CellRelief::operator()(const Point2& x) const {
+  if (empty()) return 0;
+  const int u = std::clamp(int(x.x() * cells_x), 0, cells_x - 1), v = std::clamp(int(x.y() * cells_y), 0, cells_y - 1);
+  return at(u, v);
+}
+
+CellRelief cellRelief(const HeightField& field, int radius) {
+  if (radius < 1) throw std::invalid_argument("cellRelief: the neighbourhood's radius must be at least 1 cell");
+  const int nx = field.cellsX(), ny = field.cellsY();
+  std::vector<double> mean(std::size_t(nx) * ny);
+  for (int v = 0; v < ny; ++v)
+    for (int u = 0; u < nx; ++u)
+      mean[std::size_t(u) + std::size_t(nx) * v] =
+          (field.at(u, v) + field.at(u + 1, v) + field.at(u, v + 1) + field.at(u + 1, v + 1)) / 4;
+  const auto wrapped = [](int k, int n) { return ((k % n) + n) % n; };
+  CellRelief relief{radius, nx, ny, std::vector<double>(mean.size())};
+  const double count = double(2 * radius + 1) * (2 * radius + 1);
+  double square_sum = 0;
+  for (int v = 0; v < ny; ++v)
+    for (int u = 0; u < nx; ++u) {
+      double about = 0;
+      for (int dv = -radius; dv <= radius; ++dv)
+        for (int du = -radius; du <= radius; ++du)
+          about += mean[std::size_t(wrapped(u + du, nx)) + std::size_t(nx) * wrapped(v + dv, ny)];
+      const double z = mean[std::size_t(u) + std::size_t(nx) * v] - about / count;
+      relief.values[std::size_t(u) + std::size_t(nx) * v] = z;
+      square_sum += z * z;
+    }
+  // Below rounding of the heights (a flat map's sums), no relief: z = 0.
+  double largest = 0;
+  for (double h : field.heights()) largest = std::max(largest, std::abs(h));
+  const double rms = std::sqrt(square_sum / double(mean.size()));
+  const bool flat = !(rms > 1e-12 * largest);
+  for (double& z : relief.values) z = flat ? 0.0 : z / rms;
+  return relief;
+}
+
+}  // namespace vdbappear
