@@ -197,14 +197,16 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # With --curved-tables, their tables over a base as convex as theirs (docs/displacement.md §6,
     # "Tables for a curved base").
     curvature = CURVED[surface]["curvature"] if args.curved_tables and surface in CURVED else 0.0
+    # The relief term over at most the coarse map's cells (2 R + 1 of them; docs/displacement.md §6).
+    relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2)
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
-                    curvature, args.relief_radius):
+                    curvature, relief_radius):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
             (["--base-curvature", curvature] if curvature else []) +
-            (["--relief-radius", args.relief_radius] if args.relief_radius else []))
+            (["--relief-radius", relief_radius] if relief_radius else []))
     return manifest, json.loads(report.read_text())
 
 

@@ -105,11 +105,13 @@ struct AngularBinValue {
 
 // A bin's S, R's ratio of sums (jackknifed or plain) capped at max_scaling; with the relief term
 // the fit's intercept S - B z_m, z_m = sum m z / sum m the bin's mean z as its light weighs it, so
-// that S + B z_m, what the bin's own cells reflect together, is that ratio.
+// that S + B z_m, what the bin's own cells reflect together, is that ratio. A capped bin keeps
+// B = 0: the model carries none of its cells' light as it should, whatever their relief.
 AngularBinValue angularBinValue(const AngularBinSums& b, bool relief, const FactorizationSettings& s) {
-  const Rgb S = (s.jackknife ? jackknifedRatio(b.samples, b.sum, s.epsilon) : ratio(b.sum, s.epsilon)).min(s.max_scaling);
+  const Rgb plain = s.jackknife ? jackknifedRatio(b.samples, b.sum, s.epsilon) : ratio(b.sum, s.epsilon);
+  const Rgb S = plain.min(s.max_scaling);
   if (!relief) return {S, Rgb::Zero()};
-  const Rgb B = reliefSlope(b);
+  const Rgb B = (plain > s.max_scaling).select(Rgb::Zero(), reliefSlope(b));
   return {S - B * b.mz / b.sum.prefiltered.max(1e-300), B};
 }
 

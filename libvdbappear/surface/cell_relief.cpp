@@ -36,11 +36,13 @@ CellRelief cellRelief(const HeightField& field, int radius) {
       relief.values[std::size_t(u) + std::size_t(nx) * v] = z;
       square_sum += z * z;
     }
-  // Below rounding of the heights (a flat map's sums), no relief: z = 0.
-  double largest = 0;
-  for (double h : field.heights()) largest = std::max(largest, std::abs(h));
+  // Below a millionth of the heights' range, no relief: z = 0. What stands out less is the heights'
+  // rounding (a flat map's sums; h_low read back from its 32-bit file, where a map of one bump per
+  // coarse cell, every cell's mean the same, would otherwise give its rounding unit RMS).
+  const auto [lowest, highest] = std::minmax_element(field.heights().begin(), field.heights().end());
   const double rms = std::sqrt(square_sum / double(mean.size()));
-  const bool flat = !(rms > 1e-12 * largest);
+  const double range = *highest - *lowest;
+  const bool flat = !(range > 0 && rms > 1e-6 * range);
   for (double& z : relief.values) z = flat ? 0.0 : z / rms;
   return relief;
 }

@@ -7,7 +7,8 @@
 // against T S = 1.002 (bench/rim_masking_study.cpp). Defined on h_low, so the renderer has it too:
 //   z(u, v) = [m(u, v) - mean of m over the (2r + 1)^2 cells about (u, v)] / rms,
 // m the cell's mean height (that of its four corners), the neighbours wrapping about the map as its
-// tiles repeat, and rms that of the numerator over the map (z = 0 everywhere on a flat map).
+// tiles repeat, and rms that of the numerator over the map (z = 0 everywhere where rms is below a
+// millionth of the heights' range: a flat map, or one whose cells all hold the same).
 
 #include "libvdbappear/math/vector.h"
 

@@ -69,6 +69,21 @@ TEST(CellRelief, StandsAboveTheCellsAboutItWithUnitRms) {
   const CellRelief a = cellRelief(h, 2), b = cellRelief(scaled, 2);
   for (std::size_t k = 0; k < a.values.size(); ++k) EXPECT_NEAR(a.values[k], b.values[k], 1e-9) << k;
   EXPECT_THROW(cellRelief(h, 0), std::invalid_argument);
+
+  // Cells that all hold the same (a checkerboard of vertices: every cell's corners are two of each)
+  // have no relief, whatever the heights' rounding (here 1e-9, as a 32-bit file rounds them); at
+  // 1e-4 the map has relief of its own.
+  const auto checkerboard = [](double jitter) {
+    test::TestRandom random(8);
+    HeightField c(8, 8, 0.1);
+    for (int j = 0; j <= 8; ++j)
+      for (int i = 0; i <= 8; ++i) c.at(i, j) = 0.3 + 0.01 * ((i + j) % 2) + jitter * random.uniform();
+    return cellRelief(c, 1);
+  };
+  for (double value : checkerboard(1e-9).values) EXPECT_EQ(value, 0);
+  double spread = 0;
+  for (double value : checkerboard(1e-4).values) spread = std::max(spread, std::abs(value));
+  EXPECT_GT(spread, 0.5);
 }
 
 // R linear in z with a slope that changes sign with the view: every S bin recovers its intercept
