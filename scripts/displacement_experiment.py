@@ -45,7 +45,7 @@ Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--curved-tables] [--relief-radius 0] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
         [--no-chapter-scales]
 """
@@ -197,8 +197,10 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # With --curved-tables, their tables over a base as convex as theirs (docs/displacement.md §6,
     # "Tables for a curved base").
     curvature = CURVED[surface]["curvature"] if args.curved_tables and surface in CURVED else 0.0
-    # The relief term over at most the coarse map's cells (2 R + 1 of them; docs/displacement.md §6).
-    relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2)
+    # On the curved bases the relief term, over at most the coarse map's cells (2 R + 1 of them;
+    # docs/displacement.md §6, "The relief term"): past their silhouettes the image sees their cells by
+    # their height.
+    relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2) if surface in CURVED else 0
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
                     curvature, relief_radius):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
@@ -584,12 +586,15 @@ def main():
     parser.add_argument("--curved-view-horizon", type=float, default=88.0,
                         help="the ball's and the torus's S also at views on the horizon, evaluated at this polar "
                              "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
-    parser.add_argument("--curved-tables", action="store_true",
+    parser.add_argument("--curved-tables", action=argparse.BooleanOptionalAction, default=True,
                         help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
-                             "the torus's outer half's mean curvature; docs/displacement.md §6); off: over a plane")
-    parser.add_argument("--relief-radius", type=int, default=0,
-                        help="every model's tables with the relief term over h_low's (2 R + 1)^2 cells about each "
-                             "(docs/displacement.md §6, \"The relief term\"); 0: the chapter's T S")
+                             "the torus's outer half's mean curvature; docs/displacement.md §6); --no-curved-tables: "
+                             "over a plane, the chapter's")
+    parser.add_argument("--relief-radius", type=int, default=2,
+                        help="the ball's and the torus's tables with the relief term over h_low's (2 R + 1)^2 cells "
+                             "about each, at most the coarse map's (docs/displacement.md §6, \"The relief term\"); "
+                             "0: the chapter's T S. The planar maps keep T S: their images see the cells as the "
+                             "tables' bins do (§9)")
     parser.add_argument("--torus-cells", type=int, default=128, help="of the torus's map (surface \"torus\")")
     parser.add_argument("--scale-tiles", type=int, default=16, help="section 5's tiles per side; 0: no section 5")
     parser.add_argument("--scale-spp", default="16,64")

@@ -82,11 +82,9 @@ std::vector<Rgb> spatialRows(const SpatialScaling& T) {
 }
 
 ImageChannels spatialImage(const SpatialScaling& T) { return rgbTable(spatialRows(T), T.resolution, T.resolution); }
-ImageChannels angularImage(const AngularScaling& S) {
-  return rgbTable(S.values, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
-}
-ImageChannels reliefSlopeImage(const AngularScaling& S) {  // B, laid out as S
-  return rgbTable(S.relief_slopes, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
+// S's values, or the relief term's B on S's nodes.
+ImageChannels angularImage(const AngularScaling& S, const std::vector<Rgb>& table) {
+  return rgbTable(table, S.viewNodes() * S.viewNodes(), S.resolution * S.resolution);
 }
 
 Rgb pixelRgb(const ImageChannels& image, int column, int row) {
@@ -139,13 +137,14 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
       {"height", heightMapImage(s.height, file.info.height_scale)},
       {"lobes", lobeImage(s.ndfs, cells_x, cells_y)},
       {"T", spatialImage(s.scaling.T)},
-      {"S", angularImage(s.scaling.S)}};
+      {"S", angularImage(s.scaling.S, s.scaling.S.values)}};
   const bool relief = !s.scaling.S.relief_slopes.empty();
-  if (relief) parts.emplace_back("B", reliefSlopeImage(s.scaling.S));
+  if (relief) parts.emplace_back("B", angularImage(s.scaling.S, s.scaling.S.relief_slopes));
   for (std::size_t k = 0; k < s.stretched.size(); ++k) {
     parts.emplace_back(fmt::format("stretch{}.T", k + 1), spatialImage(s.stretched[k].scaling.T));
-    parts.emplace_back(fmt::format("stretch{}.S", k + 1), angularImage(s.stretched[k].scaling.S));
-    if (relief) parts.emplace_back(fmt::format("stretch{}.B", k + 1), reliefSlopeImage(s.stretched[k].scaling.S));
+    const AngularScaling& S = s.stretched[k].scaling.S;
+    parts.emplace_back(fmt::format("stretch{}.S", k + 1), angularImage(S, S.values));
+    if (relief) parts.emplace_back(fmt::format("stretch{}.B", k + 1), angularImage(S, S.relief_slopes));
   }
   std::vector<std::unique_ptr<AtomicFile>> outputs;
   json files;
@@ -168,20 +167,20 @@ void writePrefilteredSurface(const PrefilteredSurfaceFile& file, const std::stri
     files.erase(name + ".B");
   }
   json manifest = {{"format", kFormat},
-                         {"version", kVersion},
-                         {"source", file.info.source},
-                         {"factor", file.info.factor},
-                         {"size", file.info.size},
-                         {"height_scale", file.info.height_scale},
-                         {"cells", {cells_x, cells_y}},
-                         {"brdf", brdfToJson(file.base)},
-                         {"scaling", scalingName(file.info.scaling)},
-                         {"spatial_resolution", s.scaling.T.resolution},
-                         {"angular_resolution", s.scaling.S.resolution},
-                         {"view_horizon", s.scaling.S.view_horizon},
-                         {"files", files},
-                         {"stretched", stretched},
-                         {"settings", extra}};
+                   {"version", kVersion},
+                   {"source", file.info.source},
+                   {"factor", file.info.factor},
+                   {"size", file.info.size},
+                   {"height_scale", file.info.height_scale},
+                   {"cells", {cells_x, cells_y}},
+                   {"brdf", brdfToJson(file.base)},
+                   {"scaling", scalingName(file.info.scaling)},
+                   {"spatial_resolution", s.scaling.T.resolution},
+                   {"angular_resolution", s.scaling.S.resolution},
+                   {"view_horizon", s.scaling.S.view_horizon},
+                   {"files", files},
+                   {"stretched", stretched},
+                   {"settings", extra}};
   if (relief) manifest["relief_radius"] = s.scaling.relief.radius;
   AtomicFile output(manifest_path);
   {
@@ -241,7 +240,7 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
     // The relief term (docs/displacement.md §6): B beside each S, and z from h_low.
     const int relief_radius = m.value("relief_radius", 0);
     if (relief_radius < 0 || 2 * relief_radius + 1 > std::min(cells_x, cells_y))
-      fail(manifest_path, "\"relief_radius\" must be 0 or at least 1 with 2 r + 1 cells within the map");
+      fail(manifest_path, "\"relief_radius\" must be 0 (none) or an r >= 1 whose 2 r + 1 cells fit in the coarse map");
     const CellRelief relief = relief_radius > 0 ? cellRelief(s.height, relief_radius) : CellRelief();
     const auto tables = [&](const json& files) {
       const auto path = [&](const char* name) { return (folder / files.at(name).get<std::string>()).string(); };

@@ -20,11 +20,13 @@
 #include "support/test_random.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace vdbappear {
@@ -220,8 +222,23 @@ TEST(PrefilteredSurfaceFile, CarriesTheReliefTerm) {
     EXPECT_LT((b.S.relief_slopes[k] - a.S.relief_slopes[k]).abs().maxCoeff(), 1e-5 * (1 + a.S.relief_slopes[k].abs().maxCoeff()));
   EXPECT_FALSE(read.surface.stretched.front().scaling.S.relief_slopes.empty());
 
+  // A radius wider than the coarse map, and a missing B, are refused naming the file.
+  nlohmann::json edited = nlohmann::json::parse(std::ifstream(manifest));
+  edited["relief_radius"] = 2;  // 5 cells about each of 4
+  std::ofstream(dir.path("wide.json")) << edited.dump();
+  try {
+    readPrefilteredSurface(dir.path("wide.json"));
+    ADD_FAILURE() << "a relief radius wider than the map was accepted";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("wide.json: \"relief_radius\""), std::string::npos) << e.what();
+  }
   std::filesystem::remove(dir.path("bumpy_8x.stretch1.B.exr"));
-  EXPECT_THROW(readPrefilteredSurface(manifest), MediumError);
+  try {
+    readPrefilteredSurface(manifest);
+    ADD_FAILURE() << "a missing B was accepted";
+  } catch (const MediumError& e) {
+    EXPECT_NE(std::string(e.what()).find("bumpy_8x.stretch1.B.exr: missing"), std::string::npos) << e.what();
+  }
   settings.relief_radius = 3;  // 7 cells about each of 4
   EXPECT_THROW(prefilterDisplacement(bumpy, base, settings), std::invalid_argument);
 }
