@@ -41,7 +41,7 @@ Rgb SpatialScaling::operator()(const Point2& x) const {
 
 Point2 SpatialScaling::binCentre(int a, int b) const { return {(a + 0.5) / resolution, (b + 0.5) / resolution}; }
 
-Rgb AngularScaling::read(const std::vector<Rgb>& table, const Vec3& wi, const Vec3& wo) const {
+Rgb AngularScaling::read(const Vec3& wi, const Vec3& wo, Rgb* slope) const {
   const Point2 si = hemisphereToSquare(Vec3(wi.x(), wi.y(), std::max(0.0, wi.z())).normalized());
   const Point2 so = hemisphereToSquare(Vec3(wo.x(), wo.y(), std::max(0.0, wo.z())).normalized());
   const auto view_axis = [&](double s) {
@@ -49,7 +49,7 @@ Rgb AngularScaling::read(const std::vector<Rgb>& table, const Vec3& wi, const Ve
   };
   const AxisWeights axes[4] = {axisWeights(si.x(), resolution), axisWeights(si.y(), resolution), view_axis(so.x()),
                                view_axis(so.y())};
-  Rgb sum = Rgb::Zero();
+  Rgb sum = Rgb::Zero(), slope_sum = Rgb::Zero();
   for (int corner = 0; corner < 16; ++corner) {  // the 16 bin centres around (wi, wo)
     int i[4];
     double weight = 1;
@@ -58,8 +58,13 @@ Rgb AngularScaling::read(const std::vector<Rgb>& table, const Vec3& wi, const Ve
       i[k] = upper ? axes[k].i1 : axes[k].i0;
       weight *= upper ? axes[k].t : 1 - axes[k].t;
     }
-    if (weight > 0) sum += weight * table[index(i[0], i[1], i[2], i[3])];
+    if (weight > 0) {
+      const std::size_t k = index(i[0], i[1], i[2], i[3]);
+      sum += weight * values[k];
+      if (slope) slope_sum += weight * relief_slopes[k];
+    }
   }
+  if (slope) *slope = slope_sum;
   return sum;
 }
 

@@ -40,8 +40,10 @@ struct AngularScaling {
   bool view_horizon = false;  // wo's edge nodes
   std::vector<Rgb> values;    // (wi bin (ia, ib), wo node (oa, ob)) at index(ia, ib, oa, ob)
   std::vector<Rgb> relief_slopes;  // B at the same indices; empty: none
-  Rgb operator()(const Vec3& wi, const Vec3& wo) const { return read(values, wi, wo); }
-  Rgb reliefSlope(const Vec3& wi, const Vec3& wo) const { return read(relief_slopes, wi, wo); }
+  Rgb operator()(const Vec3& wi, const Vec3& wo) const { return read(wi, wo, nullptr); }
+  // S(wi, wo), and into *slope B(wi, wo) from the same interpolation weights (one set of them per
+  // shading point); relief_slopes must be filled.
+  Rgb withReliefSlope(const Vec3& wi, const Vec3& wo, Rgb* slope) const { return read(wi, wo, slope); }
   int viewNodes() const { return view_horizon ? resolution + 2 : resolution; }  // per axis of wo's square
   std::size_t index(int ia, int ib, int oa, int ob) const {
     const std::size_t N = resolution, V = viewNodes();
@@ -57,7 +59,8 @@ struct AngularScaling {
   Vec3 viewNodeDirection(int oa, int ob) const;
 
  private:
-  Rgb read(const std::vector<Rgb>& table, const Vec3& wi, const Vec3& wo) const;  // quadrilinear
+  // values quadrilinearly, and with `slope` relief_slopes at the same weights.
+  Rgb read(const Vec3& wi, const Vec3& wo, Rgb* slope) const;
 };
 
 // Eq. (4.21), R ~ T(x) S(wi, wo); with the relief term (S.relief_slopes and `relief` of h_low)
@@ -68,7 +71,9 @@ struct FactorizedScaling {
   CellRelief relief;  // z of h_low's cells, with S.relief_slopes
   Rgb operator()(const Point2& x, const Vec3& wi, const Vec3& wo) const {
     if (S.relief_slopes.empty() || relief.empty()) return T(x) * S(wi, wo);
-    return T(x) * (S(wi, wo) + S.reliefSlope(wi, wo) * relief(x)).max(0.0);
+    Rgb B;
+    const Rgb intercept = S.withReliefSlope(wi, wo, &B);
+    return T(x) * (intercept + B * relief(x)).max(0.0);
   }
 };
 
