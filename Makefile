@@ -122,9 +122,10 @@ subsurface: build
 # (the default) it takes about four hours on 2 cores, estimated from its sections timed separately
 # (the ball's sections 1-2 at 1K^2 with its squeezed tiles' tables, since 2026-11-30: about 100
 # minutes, and some 28% more of its and the torus's tables for S up to the view's horizon,
-# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches "").
+# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches ""). Run again, it goes on
+# where an interrupted run stopped (--resume): what is up to date in displacement-out/ is kept.
 displacement: build
-	@scripts/displacement_experiment.py --build $(BUILD_DIR)
+	@scripts/displacement_experiment.py --build $(BUILD_DIR) --resume
 
 # VDBs from Blender and Houdini (issue 26): the kept foreign files rendered by vdb_render and by Blender
 # Cycles with the same grids, lights and camera; mean and worst 8x8 tile against the issue's gates.

@@ -46,7 +46,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
-        [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--no-study]
+        [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--resume] [--no-study]
         [--no-chapter-scales]
 """
 import argparse
@@ -56,6 +56,7 @@ import pathlib
 import subprocess
 import time
 
+import resumable
 import sphere_regions
 import torus_regions
 
@@ -138,7 +139,7 @@ def write_torus(path):
         for a in range(nu):
             q = [index(a, b), index(a + 1, b), index(a + 1, b + 1), index(a, b + 1)]
             faces.append("f " + " ".join(f"{i}/{i}/{i}" for i in q))
-    pathlib.Path(path).write_text("\n".join(lines + faces) + "\n")
+    resumable.write_if_changed(path, "\n".join(lines + faces) + "\n")  # unchanged, it keeps its time (--resume)
 
 
 def run(cmd):
@@ -221,8 +222,10 @@ def height_field(model, surface, manifest):
     return {"prefiltered": manifest.name, "scaling": model == "full", **placement}
 
 
-def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=None, camera=CAMERA,
+def render(args, out, name, field, lighting, res, spp=None, seconds=None, seed=1, reuse=None, camera=CAMERA,
            memory=False):
+    """vdb_render of one height field; with --resume skipped where an earlier run rendered the same scene
+    from the same files (scripts/resumable.py). Returns the image and the seconds it took."""
     lights, depth = LIGHTING[lighting]
     # The same reference for every factor: `reuse` holds the names this run has rendered (an image of
     # an earlier run may be of another map or another size).
@@ -231,18 +234,48 @@ def render(build, out, name, field, lighting, res, spp=None, seconds=None, seed=
     if reuse is not None:
         reuse.add(name)
     scene = out / f"{name}.scene.json"
-    scene.write_text(json.dumps({"resolution": res, "seed": seed, "camera": camera, "lights": lights,
-                                 "height_fields": [field]}, indent=1))
+    resumable.write_if_changed(scene, json.dumps({"resolution": res, "seed": seed, "camera": camera, "lights": lights,
+                                                  "height_fields": [field]}, indent=1))
     image = out / f"{name}.exr"
     cmd = ["/usr/bin/time", "-v", "-o", out / f"{name}.time.txt"] if memory else []
-    cmd += [tool(build, "vdb_render"), "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
+    cmd += [tool(args.build, "vdb_render"), "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
             "--report", out / f"{name}.render.json"]
     cmd += ["--time", seconds, "--spp", 1 << 20] if seconds else ["--spp", spp]
     if depth > 0:
         cmd += ["--max-depth", depth]
-    start = time.time()
-    run(cmd)
-    return image, time.time() - start
+    outputs = [image, out / f"{name}.png", out / f"{name}.render.json"] + ([out / f"{name}.time.txt"] if memory else [])
+    inputs = [tool(args.build, "vdb_render"), *libraries(args.build), scene, *field_inputs(out, field)]
+    return image, resumed(args, name, resumable.run_resumable(cmd, outputs, inputs, args.resume))
+
+
+def libraries(build):
+    """The project's shared libraries that its tools load."""
+    return sorted(pathlib.Path(build).glob("libvdbappear/lib*.so*"))
+
+
+def field_inputs(out, field):
+    """The files a height field of a scene reads: its map, mesh, and each prefiltered manifest with its
+    parts (the files named after it)."""
+    names = [field.get("file"), field.get("prefiltered"), field.get("mesh"), *field.get("mipmap", [])]
+    files = []
+    for name in filter(None, names):
+        files += sorted(out.glob(name[:-len(".json")] + ".*")) if name.endswith(".json") else [out / name]
+    return files
+
+
+def resumed(args, name, result):
+    """The seconds of a run_resumable() result; a skipped command's name is kept for the report."""
+    stdout, record = result
+    if stdout is None:
+        args.resumed.append(name)
+    return record["seconds"]
+
+
+def make_map(args, kind, cells, path):
+    """vdb_make_height_map's map `kind` at cells^2 cells into path (kept with --resume if it made it so)."""
+    cmd = [tool(args.build, "vdb_make_height_map"), kind, "--cells", cells, "-o", path]
+    resumed(args, pathlib.Path(path).name, resumable.run_resumable(cmd, [path], [cmd[0], *libraries(args.build)],
+                                                                   args.resume))
 
 
 def compare(build, reference, test, error_map=None, mask=None):
@@ -306,13 +339,13 @@ def study(args, out, surface, factor, rows, timing_rows):
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
         tag = f"{surface}_{factor}x_{lighting}"
-        reference, _ = render(args.build, out, f"{surface}_{lighting}_reference",
+        reference, _ = render(args, out, f"{surface}_{lighting}_reference",
                               height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref,
                               reuse=args.rendered, camera=camera)
         row = {"surface": surface, "factor": factor, "lighting": lighting}
         images = {}
         for model in ("naive", "multi-lobe", "full"):
-            images[model], _ = render(args.build, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting,
+            images[model], _ = render(args, out, f"{tag}_{model}", height_field(model, surface, manifest), lighting,
                                       res, spp=args.spp, camera=camera)
             c = compare(args.build, reference, images[model], out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
@@ -322,10 +355,10 @@ def study(args, out, surface, factor, rows, timing_rows):
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
             # Another seed for the reference of the noise measurement, so that noise does not cancel.
-            converged, _ = render(args.build, out, f"{surface}_gi_converged", height_field("reference", surface, manifest),
+            converged, _ = render(args, out, f"{surface}_gi_converged", height_field("reference", surface, manifest),
                                   lighting, res, spp=args.spp_ref, seed=7, reuse=args.rendered, camera=camera)
             for model in ("reference", "full"):
-                image, _ = render(args.build, out, f"{tag}_{model}_equal_time", height_field(model, surface, manifest),
+                image, _ = render(args, out, f"{tag}_{model}_equal_time", height_field(model, surface, manifest),
                                   lighting, res, seconds=args.equal_time, camera=camera)
                 stats = json.loads((out / f"{tag}_{model}_equal_time.render.json").read_text())
                 row[f"equal_time_{model}"] = {"rmse": compare(args.build, converged, image)["rmse"],
@@ -350,7 +383,7 @@ def level_of_detail(args, out, surface, lod_rows):
     fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
               "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
-    reference, _ = render(args.build, out, f"{surface}_lod_reference", fields["original"], "gi", res,
+    reference, _ = render(args, out, f"{surface}_lod_reference", fields["original"], "gi", res,
                           spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
     for spp in [int(v) for v in args.lod_spp.split(",")]:
         seconds, results = equal_time(args, out, f"{surface}_lod", fields, reference, spp, LOD_CAMERA)
@@ -369,7 +402,7 @@ def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
     for model, field in fields.items():
         name = f"{tag}_{model}_{spp}"
         timing = {"spp": spp} if seconds is None else {"seconds": seconds}
-        render(args.build, out, name, field, "gi", res, camera=camera, memory=True, **timing)
+        render(args, out, name, field, "gi", res, camera=camera, memory=True, **timing)
         stats = json.loads((out / f"{name}.render.json").read_text())
         c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
         results[model] = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
@@ -396,7 +429,7 @@ def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_r
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
         fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, **placement}
-    reference, _ = render(args.build, out, f"{tag}_reference", fields["original"], "gi", res,
+    reference, _ = render(args, out, f"{tag}_reference", fields["original"], "gi", res,
                           spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
     for spp in [int(v) for v in args.scale_spp.split(",")]:
         seconds, results = equal_time(args, out, tag, fields, reference, spp, camera, res)
@@ -431,7 +464,7 @@ def ball_at_scale(args, out, scale_rows, timing_rows):
     """Section 5 on the ball: the bumps map at --ball-scale-cells^2 over T x T/2 tiles for each T of
     --ball-scale-tiles, the ball of sections 1-2 and its view scaled by T / 8 (the same image at
     T = 8), seen at --ball-scale-res. A band of tiles is one tile's triangles and turned copies of it."""
-    run([tool(args.build, "vdb_make_height_map"), "bumps", "--cells", args.ball_scale_cells, "-o", out / "ball_scale.exr"])
+    make_map(args, "bumps", args.ball_scale_cells, out / "ball_scale.exr")
     for k, tiles in enumerate(ball_scale_tiles(args)):
         grow = tiles / 8
         camera = {**BALL["camera"], "position": [grow * v for v in BALL["camera"]["position"]]}
@@ -447,7 +480,10 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
-             f" {seconds / 60:.1f} min in all on this machine.", "",
+             f" {seconds / 60:.1f} min in all on this machine." +
+             (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
+              " the same files, and were not run again (report.json's \"resumed\"); the tables an earlier run made"
+              " with the same settings are reused always." if args.resumed else ""), "",
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
                                    f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4), not the chapter's."), "",
@@ -552,7 +588,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
     (out / "report.md").write_text("\n".join(lines) + "\n")
     (out / "report.json").write_text(json.dumps({"rows": rows, "precomputation": timing_rows, "level_of_detail": lod_rows,
-                                                 "chapter_scale": list(scale_rows)}, indent=1))
+                                                 "chapter_scale": list(scale_rows), "resumed": args.resumed}, indent=1))
 
 
 def res_width(args):
@@ -604,6 +640,11 @@ def main():
     parser.add_argument("--ball-scale-tiles", default="8,52",
                         help="tiles around the ball's equator in section 5, T x T/2 in all (even counts)")
     parser.add_argument("--ball-scale-res", default="128x96", help="of the ball's images in section 5")
+    parser.add_argument("--resume", action="store_true",
+                        help="skip each map and render that an earlier run into --out made with the same command from "
+                             "files that have not changed since (make's rule; scripts/resumable.py): an interrupted run "
+                             "goes on where it stopped. `make displacement` passes it. The tables are reused whenever "
+                             "an earlier run made them with the same settings, with or without it")
     parser.add_argument("--no-study", action="store_true", help="leave out sections 1-3 (to run sections 4-5 alone)")
     parser.add_argument("--no-chapter-scales", action="store_true",
                         help="sections 1-3 at --factors only, not also at each surface's scale in the chapter "
@@ -620,11 +661,10 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
-    args.rendered = set()
+    args.rendered, args.resumed = set(), []
     rows, timing_rows, lod_rows, scale_rows = [], [], [], []
     for surface in args.surfaces.split(","):
-        run([tool(args.build, "vdb_make_height_map"), map_kind(surface), "--cells", map_cells(args, surface),
-             "-o", out / f"{surface}.exr"])
+        make_map(args, map_kind(surface), map_cells(args, surface), out / f"{surface}.exr")
         if surface == "torus":
             write_torus(out / TORUS["placement"]["mesh"])
         for factor in [] if args.no_study else study_factors(args, surface):
