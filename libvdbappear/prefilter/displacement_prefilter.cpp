@@ -35,7 +35,7 @@ void checkSettings(const HeightField& fine, const DisplacementPrefilterSettings&
   if (!(s.base_curvature >= 0) || !std::isfinite(s.base_curvature))
     fail("the base's curvature must be finite and not negative (a convex base or a plane)");
   const int coarse_cells = std::min(fine.cellsX(), fine.cellsY()) / s.factor;
-  if (s.relief_radius < 0 || 2 * s.relief_radius + 1 > coarse_cells)
+  if (s.relief_radius < 0 || s.relief_radius > widestReliefRadius(coarse_cells, coarse_cells))
     fail("the relief's radius must be 0 (none) or span at most the coarse map's " + std::to_string(coarse_cells) +
          " cells (2 r + 1)");
 }

@@ -239,7 +239,7 @@ PrefilteredSurfaceFile readPrefilteredSurface(const std::string& manifest_path) 
     const int V = view_horizon ? N + 2 : N;
     // The relief term (docs/displacement.md §6): B beside each S, and z from h_low.
     const int relief_radius = m.value("relief_radius", 0);
-    if (relief_radius < 0 || 2 * relief_radius + 1 > std::min(cells_x, cells_y))
+    if (relief_radius < 0 || relief_radius > widestReliefRadius(cells_x, cells_y))
       fail(manifest_path, "\"relief_radius\" must be 0 (none) or an r >= 1 whose 2 r + 1 cells fit in the coarse map");
     const CellRelief relief = relief_radius > 0 ? cellRelief(s.height, relief_radius) : CellRelief();
     const auto tables = [&](const json& files) {

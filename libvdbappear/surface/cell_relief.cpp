@@ -15,8 +15,10 @@ double CellRelief::operator()(const Point2& x) const {
 }
 
 CellRelief cellRelief(const HeightField& field, int radius) {
-  if (radius < 1) throw std::invalid_argument("cellRelief: the neighbourhood's radius must be at least 1 cell");
   const int nx = field.cellsX(), ny = field.cellsY();
+  if (radius < 1 || radius > widestReliefRadius(nx, ny))
+    throw std::invalid_argument("cellRelief: the neighbourhood's radius must be at least 1 cell and its 2 r + 1 cells "
+                                "fit in the map");
   std::vector<double> mean(std::size_t(nx) * ny);
   for (int v = 0; v < ny; ++v)
     for (int u = 0; u < nx; ++u)

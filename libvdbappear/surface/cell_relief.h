@@ -12,6 +12,7 @@
 
 #include "libvdbappear/math/vector.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace vdbappear {
@@ -28,7 +29,11 @@ struct CellRelief {
   double operator()(const Point2& x) const;
 };
 
-// Throws std::invalid_argument for a radius below 1.
+// The widest radius whose (2r + 1)^2 cells fit in a map of cells_x x cells_y cells (each cell's
+// neighbourhood holds no cell twice).
+inline int widestReliefRadius(int cells_x, int cells_y) { return (std::min(cells_x, cells_y) - 1) / 2; }
+
+// Throws std::invalid_argument for a radius below 1 or above widestReliefRadius() of the field.
 CellRelief cellRelief(const HeightField& field, int radius);
 
 }  // namespace vdbappear

@@ -71,6 +71,10 @@ TEST(CellRelief, StandsAboveTheCellsAboutItWithUnitRms) {
   const CellRelief a = cellRelief(h, 2), b = cellRelief(scaled, 2);
   for (std::size_t k = 0; k < a.values.size(); ++k) EXPECT_NEAR(a.values[k], b.values[k], 1e-9) << k;
   EXPECT_THROW(cellRelief(h, 0), std::invalid_argument);
+  // 12 cells hold a neighbourhood of 11 (r = 5) and not of 13, whose cells would wrap onto themselves.
+  EXPECT_EQ(widestReliefRadius(12, 20), 5);
+  EXPECT_NO_THROW(cellRelief(h, 5));
+  EXPECT_THROW(cellRelief(h, 6), std::invalid_argument);
 
   // Cells that all hold the same (a checkerboard of vertices: every cell's corners are two of each)
   // have no relief, whatever the heights' rounding (here 1e-9, as a 32-bit file rounds them); at
