@@ -83,6 +83,23 @@ RATES = {"chapter": [],
          # n15-shared's saving spent on eight times the positions (docs/displacement.md §6).
          "shared8k": ["--paths", "4", "--angular-resolution", "15", "--pairs", "16000", "--positions", "8192",
                       "--shared-positions"]}
+# Beyond 32x a coarse cell holds more fine cells than a position's few paths see: at 64x each of the
+# noise's 4 paths stood for 1024 fine cells, and the S bins one sun reads moved its image by 2.1
+# points over three seeds (+2.97%, +1.25%, +0.85% against naive's +4.53%). So past 32x the paths per
+# position grow with the cell's area, keeping 32x's fine cells per path: 16 at 64x, where two seeds
+# gave +0.61% and +0.63% (docs/displacement.md §9, "The noise at 64x"); the jackknife did not move it.
+PATHS_FULL_FACTOR = 32
+
+
+def rate_flags(rates, factor):
+    """The tool's flags of these rates at this factor: --paths times (factor / 32)^2 beyond 32x."""
+    flags = list(RATES[rates])
+    if factor > PATHS_FULL_FACTOR and "--paths" in flags:
+        k = flags.index("--paths") + 1
+        flags[k] = str(int(flags[k]) * (factor // PATHS_FULL_FACTOR) ** 2)
+    return flags
+
+
 CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 34}
 SUN = {"type": "sun", "direction": [0.62, -0.38, -0.69], "strength": 3.0}
 SKY = {"type": "env", "radiance": [0.25, 0.3, 0.4]}
@@ -177,7 +194,7 @@ def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_ho
     history = m.get("settings", {}).get("history", "")
     shared = "--shared-positions" in RATES[rates]  # n15's flags are a prefix of n15-shared's
     return (m.get("factor") == factor and m.get("cells", [0])[0] * factor == cells and
-            same_brdf(m.get("brdf", {}), brdf) and " ".join(RATES[rates]) in history and
+            same_brdf(m.get("brdf", {}), brdf) and " ".join(rate_flags(rates, factor)) in history and
             ("--shared-positions" in history) == shared)
 
 
@@ -205,7 +222,7 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
                     curvature, relief_radius):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
-             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
+             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + rate_flags(rates, factor) +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
             (["--base-curvature", curvature] if curvature else []) +
@@ -486,7 +503,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
               " with the same settings are reused always." if args.resumed else ""), "",
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
-                                   f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4), not the chapter's."), "",
+                                   f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4; beyond 32x --paths times (factor / 32)^2),"
+                                   " not the chapter's."), "",
              "## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
              f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
