@@ -53,7 +53,6 @@ import argparse
 import json
 import math
 import pathlib
-import subprocess
 import time
 
 import resumable
@@ -159,8 +158,7 @@ def write_torus(path):
     resumable.write_if_changed(path, "\n".join(lines + faces) + "\n")  # unchanged, it keeps its time (--resume)
 
 
-def run(cmd):
-    return subprocess.run([str(c) for c in cmd], check=True, capture_output=True, text=True).stdout
+run = resumable.run_command
 
 
 def tool(build, name):
@@ -255,13 +253,14 @@ def render(args, out, name, field, lighting, res, spp=None, seconds=None, seed=1
                                                   "height_fields": [field]}, indent=1))
     image = out / f"{name}.exr"
     cmd = ["/usr/bin/time", "-v", "-o", out / f"{name}.time.txt"] if memory else []
-    cmd += [tool(args.build, "vdb_render"), "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
+    renderer = tool(args.build, "vdb_render")
+    cmd += [renderer, "--scene", scene, "-o", image, "--preview", out / f"{name}.png",
             "--report", out / f"{name}.render.json"]
     cmd += ["--time", seconds, "--spp", 1 << 20] if seconds else ["--spp", spp]
     if depth > 0:
         cmd += ["--max-depth", depth]
     outputs = [image, out / f"{name}.png", out / f"{name}.render.json"] + ([out / f"{name}.time.txt"] if memory else [])
-    inputs = [tool(args.build, "vdb_render"), *libraries(args.build), scene, *field_inputs(out, field)]
+    inputs = [renderer, *libraries(args.build), scene, *field_inputs(out, field)]
     return image, resumed(args, name, resumable.run_resumable(cmd, outputs, inputs, args.resume))
 
 

@@ -46,7 +46,7 @@ def run_resumable(command, outputs, inputs, resume, run=None):
             return None, record
     record_path(outputs[0]).unlink(missing_ok=True)
     start = time.time()
-    stdout = (run or _run)(command)
+    stdout = (run or run_command)(command)
     record = {"command": _line(command), "seconds": time.time() - start}
     record_path(outputs[0]).write_text(json.dumps(record) + "\n")
     return stdout, record
@@ -59,5 +59,6 @@ def write_if_changed(path, text):
         path.write_text(text)
 
 
-def _run(command):
+def run_command(command):
+    """Runs a command line (any items, as strings), failing on a non-zero exit; its stdout."""
     return subprocess.run(_line(command), check=True, capture_output=True, text=True).stdout
