@@ -303,6 +303,22 @@ def compare(build, reference, test, error_map=None, mask=None):
     return json.loads(run(cmd))
 
 
+def mean_error_standard_error(out, test, reference):
+    """One standard error of the relative error of `test`'s image mean against `reference`'s, from
+    the renders' own noise (each render.json's mean pixel variance, the variance of a pixel's mean):
+    the image mean's variance is that over the pixel count, and the ratio's by the delta method.
+    Channels of one pixel are counted as one (their paths are the same), which errs high."""
+    def mean_and_variance(name):
+        stats = json.loads((out / f"{name}.render.json").read_text())
+        pixels = stats["resolution"][0] * stats["resolution"][1]
+        return stats["mean_pixel_value"], stats["mean_pixel_variance"] / pixels
+    m_t, v_t = mean_and_variance(test)
+    m_r, v_r = mean_and_variance(reference)
+    if m_t <= 0 or m_r <= 0:
+        return None
+    return m_t / m_r * math.sqrt(v_t / m_t ** 2 + v_r / m_r ** 2)
+
+
 def region_masks(args, out, surface, lighting):
     """The masks of a curved surface's regions: the ball's by sphere_regions.py, the torus's by
     torus_regions.py; [(name, path, pixel count)]. The regions follow SUN, which both lightings hold."""
@@ -365,6 +381,8 @@ def study(args, out, surface, factor, rows, timing_rows):
                                       res, spp=args.spp, camera=camera)
             c = compare(args.build, reference, images[model], out / f"{tag}_{model}_error.png")
             row[model] = c["mean_relative_error"]
+            row.setdefault("standard_error", {})[model] = mean_error_standard_error(
+                out, f"{tag}_{model}", f"{surface}_{lighting}_reference")
         if surface in CURVED:
             row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
         naive, full = abs(row["naive"]), abs(row["full"])
@@ -491,6 +509,18 @@ def ball_at_scale(args, out, scale_rows, timing_rows):
                             label=f"ball, {tiles} x {tiles // 2} tiles")
 
 
+def with_standard_error(row, model):
+    """A row's mean error of `model` with its renders' standard error: "+0.41% ± 0.04%"."""
+    se = row.get("standard_error", {}).get(model)
+    return f"{row[model]:+.2%}" + (f" ± {se:.2%}" if se is not None else "")
+
+
+def table_error(ranges):
+    """S's bins' relative standard errors from a prefilter report's ranges: "median / 90% / 99%"."""
+    q = ranges["S"].get("relative_standard_error")
+    return "n/a" if not q else f"{q['median']:.1%} / {q['p90']:.1%} / {q['p99']:.1%}"
+
+
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
@@ -507,12 +537,15 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              "## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
              f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
-             "torus as the bump).", "",
+             "torus as the bump). After each error, ± one standard error from the renders' own noise (the model's "
+             "and the reference's); the tables' own draw adds to it (the precomputation table's \"S's bins' "
+             "error\").", "",
              "| surface | factor | light | naive | multi-lobe | full | gate |", "|---|---|---|---|---|---|---|"]
     for r in rows:
         chapter = " (the chapter's)" if CHAPTER_SCALES.get(r["surface"]) == r["factor"] else ""
-        lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {r['naive']:+.2%} | {r['multi-lobe']:+.2%} |"
-                     f" {r['full']:+.2%} | {'pass' if r['passed'] else 'fail'} |")
+        errors = " | ".join(with_standard_error(r, m) for m in ("naive", "multi-lobe", "full"))
+        lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {errors} |"
+                     f" {'pass' if r['passed'] else 'fail'} |")
     curved_rows = [r for r in rows if "regions" in r]
     if curved_rows:
         lines += ["", "## The curved surfaces' error by region", "",
@@ -580,16 +613,17 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
               "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
               "32-bit floats.", "",
               "\"Stretched T S\": the tables of the tiles of `--ball-stretches` (docs/displacement.md §6), made "
-              "within \"scaling s\".", "",
+              "within \"scaling s\". \"S's bins' error\": the relative standard error of S's bins' estimates, "
+              "median / 90th / 99th percentile over the bins (docs/displacement.md §6, \"The tables' own error\").", "",
               "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | "
-              "B (relief term) | stretched T S B | S range |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "B (relief term) | stretched T S B | S range | S's bins' error |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for t in timing_rows:
         s, b, rng = t["seconds"], t["bytes"], t["ranges"]["S"]
         lines.append(f"| {t['surface']} | {t['factor']}x | {t['scaling']} | {s['height']:.2f} | {s['ndfs']:.1f} |"
                      f" {s['scaling']:.1f} | {b['original_height']} | {b['height']} | {b['svndf']} | {b['T']} | {b['S']} |"
                      f" {b.get('B', 0)} |"
-                     f" {b.get('stretched_tables', 0)} | {rng['min']:.2f}-{rng['max']:.2f} |")
+                     f" {b.get('stretched_tables', 0)} | {rng['min']:.2f}-{rng['max']:.2f} | {table_error(t['ranges'])} |")
     lines += ["", "## Images", "", "Each `*_sbs.png`: reference | model | signed relative error (red brighter, blue "
               "darker, saturated at 50%)."]
     for r in rows:

@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -102,6 +103,15 @@ nlohmann::json tableRange(const std::vector<Rgb>& values) {
   return {{"min", lo}, {"mean", sum / double(values.size())}, {"max", hi}};
 }
 
+// Quantiles of S's bins' relative standard errors (FactorizedScaling::S_relative_errors): whether
+// the sampling rates leave the table's draw within what the image should hold.
+nlohmann::json errorQuantiles(std::vector<double> errors) {
+  if (errors.empty()) return nullptr;
+  std::sort(errors.begin(), errors.end());
+  const auto at = [&](double q) { return errors[std::size_t(q * double(errors.size() - 1))]; };
+  return {{"median", at(0.5)}, {"p90", at(0.9)}, {"p99", at(0.99)}, {"max", errors.back()}};
+}
+
 int prefilter(const Options& o, const std::string& history) {
   tool::checkOutputs(o.input, o.output, o.report);
   for (const char* part : {"height", "lobes", "T", "S"})
@@ -152,13 +162,14 @@ int prefilter(const Options& o, const std::string& history) {
   writePrefilteredSurface(file, o.output, recorded);
   const double write_seconds = clock.lap() - p.seconds.height - p.seconds.ndfs - p.seconds.scaling;
   const nlohmann::json bytes = storage(fine, p);
-  const nlohmann::json ranges = {{"T", tableRange(p.scaling.T.values)}, {"S", tableRange(p.scaling.S.values)}};
+  nlohmann::json ranges = {{"T", tableRange(p.scaling.T.values)}, {"S", tableRange(p.scaling.S.values)}};
+  ranges["S"]["relative_standard_error"] = errorQuantiles(p.scaling.S_relative_errors);
   if (o.verbose)
     fmt::print(stderr,
                "{}: {} -> {}: {} x {} cells -> {} x {} (factor {}), {} lobes per cell, T {}^2, S {}^4{}\n"
                "{}: bytes: original {}, h_low {}, SVNDF {}, T {}, S {}\n"
                "{}: seconds: read {:.2f}, h_low {:.2f}, NDFs {:.2f}, scaling {:.2f}, write {:.2f}\n"
-               "{}: T {:.3g} to {:.3g}, S {:.3g} to {:.3g} (mean {:.3g})\n",
+               "{}: T {:.3g} to {:.3g}, S {:.3g} to {:.3g} (mean {:.3g}); S's bins' relative standard error: {}\n",
                kTool, o.input, o.output, fine.cellsX(), fine.cellsY(), p.height.cellsX(), p.height.cellsY(),
                settings.factor, settings.ndf.lobes, f.spatial_resolution, f.angular_resolution,
                f.view_horizon_degrees > 0 ? fmt::format(" and the view's horizon at {} degrees", f.view_horizon_degrees) : "",
@@ -167,7 +178,13 @@ int prefilter(const Options& o, const std::string& history) {
                bytes["svndf"].get<std::size_t>(), bytes["T"].get<std::size_t>(), bytes["S"].get<std::size_t>(), kTool,
                read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds, kTool,
                ranges["T"]["min"].get<double>(), ranges["T"]["max"].get<double>(), ranges["S"]["min"].get<double>(),
-               ranges["S"]["max"].get<double>(), ranges["S"]["mean"].get<double>());
+               ranges["S"]["max"].get<double>(), ranges["S"]["mean"].get<double>(),
+               ranges["S"]["relative_standard_error"].is_null()
+                   ? std::string("n/a")
+                   : fmt::format("median {:.2f}%, 90% {:.2f}%, 99% {:.2f}%",
+                                 100 * ranges["S"]["relative_standard_error"]["median"].get<double>(),
+                                 100 * ranges["S"]["relative_standard_error"]["p90"].get<double>(),
+                                 100 * ranges["S"]["relative_standard_error"]["p99"].get<double>()));
   if (!o.report.empty())
     tool::writeJsonReport(o.report, {{"tool", kTool},
                                      {"version", kVersion},

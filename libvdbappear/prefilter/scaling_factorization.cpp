@@ -74,20 +74,43 @@ Rgb jackknifedRatio(const std::vector<ScalingSample>& samples, const ScalingSamp
   return (jackknifed.isFinite() && jackknifed >= 0).select(jackknifed, plain);
 }
 
-// An S bin's samples: their sums, and for the relief term those of m z, m z^2 and o z (o, m the
-// original's and the prefiltered model's light, z the sample cell's relief).
+// An S bin's samples: their sums, those of o^2, m^2 and o m for the bin's standard error, and for
+// the relief term those of m z, m z^2 and o z (o, m the original's and the prefiltered model's
+// light, z the sample cell's relief).
 struct AngularBinSums {
   ScalingSample sum;
+  Rgb oo = Rgb::Zero(), mm = Rgb::Zero(), om = Rgb::Zero();
   Rgb mz = Rgb::Zero(), mzz = Rgb::Zero(), oz = Rgb::Zero();
+  int count = 0;
   std::vector<ScalingSample> samples;  // kept for the jackknife only
   void add(const ScalingSample& sample, double z, bool keep) {
     vdbappear::add(&sum, sample);
-    mz += sample.prefiltered * z;
-    mzz += sample.prefiltered * (z * z);
-    oz += sample.original * z;
+    const Rgb& o = sample.original;
+    const Rgb& m = sample.prefiltered;
+    oo += o * o;
+    mm += m * m;
+    om += o * m;
+    mz += m * z;
+    mzz += m * (z * z);
+    oz += o * z;
+    ++count;
     if (keep) samples.push_back(sample);
   }
 };
+
+// The relative standard error of a bin's ratio r = sum o / sum m over its n samples, by the delta
+// method: Var(r) ~ n / (n - 1) sum (o_k - r m_k)^2 / (sum m)^2, relative to r that is
+// sqrt(n / (n - 1) sum (o_k - r m_k)^2) / sum o, with sum (o - r m)^2 = sum o^2 - 2 r sum o m +
+// r^2 sum m^2. Averaged over the channels; 0 where the bin has one sample or no light.
+double relativeStandardError(const AngularBinSums& b) {
+  if (b.count < 2) return 0;
+  const Rgb O = b.sum.original, M = b.sum.prefiltered;
+  const Rgb r = O / M.max(1e-300);
+  const Rgb residual = (b.oo - 2 * r * b.om + r * r * b.mm).max(0.0);
+  const double n = b.count;
+  const Rgb relative = (n / (n - 1) * residual).sqrt() / O.max(1e-300);
+  return average((O > 0 && M > 0).select(relative, 0.0));
+}
 
 // The relief term's slope B of a bin: the weighted least squares of the samples' ratios
 // r = o / m on their cells' z, weights m (the light each sends, as the ratio of sums weighs it):
@@ -101,6 +124,7 @@ Rgb reliefSlope(const AngularBinSums& b) {
 
 struct AngularBinValue {
   Rgb intercept, slope;  // S, and B with the relief term (0 without): R = S + B z
+  double relative_error = 0;  // of the bin's ratio (relativeStandardError)
 };
 
 // A bin's S, R's ratio of sums (jackknifed or plain) capped at max_scaling; with the relief term
@@ -110,9 +134,10 @@ struct AngularBinValue {
 AngularBinValue angularBinValue(const AngularBinSums& b, bool relief, const FactorizationSettings& s) {
   const Rgb plain = s.jackknife ? jackknifedRatio(b.samples, b.sum, s.epsilon) : ratio(b.sum, s.epsilon);
   const Rgb S = plain.min(s.max_scaling);
-  if (!relief) return {S, Rgb::Zero()};
+  const double error = relativeStandardError(b);
+  if (!relief) return {S, Rgb::Zero(), error};
   const Rgb B = (plain > s.max_scaling).select(Rgb::Zero(), reliefSlope(b));
-  return {S - B * b.mz / b.sum.prefiltered.max(1e-300), B};
+  return {S - B * b.mz / b.sum.prefiltered.max(1e-300), B, error};
 }
 
 // S's bin: R at the bins' directions over positions stratified over the whole map, one per stratum.
@@ -214,8 +239,10 @@ FactorizedScaling factorizeScaling(const ScalingSampler& R, int cells_x, int cel
     result.S.relief_slopes.assign(result.S.values.size(), Rgb::Zero());
     result.relief = *relief;
   }
+  result.S_relative_errors.assign(result.S.values.size(), 0.0);
   const auto store = [&](std::size_t index, const AngularBinValue& value) {
     result.S.values[index] = value.intercept;
+    result.S_relative_errors[index] = value.relative_error;
     if (relief) result.S.relief_slopes[index] = value.slope;
   };
 

@@ -69,6 +69,11 @@ struct FactorizedScaling {
   SpatialScaling T;
   AngularScaling S;
   CellRelief relief;  // z of h_low's cells, with S.relief_slopes
+  // The relative standard error of each S bin's estimate (at S.values' indices), how far the
+  // table's draw may lie from the bin's true ratio: what the sampling rates buy
+  // (docs/displacement.md §6, "The tables' own error"). Filled by factorizeScaling(); not in the
+  // files (empty when read).
+  std::vector<double> S_relative_errors;
   Rgb operator()(const Point2& x, const Vec3& wi, const Vec3& wo) const {
     if (S.relief_slopes.empty() || relief.empty()) return T(x) * S(wi, wo);
     Rgb B;

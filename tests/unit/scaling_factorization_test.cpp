@@ -179,6 +179,50 @@ TEST(ScalingFactorization, JackknifeRemovesTheBiasOfFewPositions) {
   EXPECT_LT(std::abs(meanOfS(true)), 0.01);
 }
 
+// Each S bin's relative standard error (FactorizedScaling::S_relative_errors) is what its draw
+// spreads by: with a direction-free R every bin estimates the same map-wide ratio from its own
+// positions, so the bins' spread about their mean is the error each should report. Where the
+// original is the prefiltered model's light times 2 exactly, every bin is exact and reports 0 (the
+// negative control: an error from the samples' spread alone would not be).
+TEST(ScalingFactorization, EachBinReportsTheSpreadOfItsDraw) {
+  constexpr int kCells = 64;
+  std::vector<double> prefiltered(kCells * kCells);
+  test::TestRandom random(23);
+  for (double& p : prefiltered) p = 0.1 + std::pow(random.uniform(), 3);
+  FactorizationSettings s = smallTables();
+  s.angular_resolution = 10;
+  s.pairs_per_spatial_bin = 10;
+  s.positions_per_angular_bin = 64;
+  const auto tables = [&](double original_scale) {
+    const ScalingSampler R = [&, original_scale](int u, int v, std::uint64_t, const Vec3&, const Vec3&) {
+      const double m = prefiltered[std::size_t(u + kCells * v)];
+      return ScalingSample{Rgb::Constant(original_scale > 0 ? original_scale * m : 1.0), Rgb::Constant(m)};
+    };
+    return factorizeScaling(R, kCells, kCells, s);
+  };
+  const FactorizedScaling noisy = tables(0);
+  ASSERT_EQ(noisy.S_relative_errors.size(), noisy.S.values.size());
+  double mean = 0, reported = 0;
+  for (std::size_t k = 0; k < noisy.S.values.size(); ++k) {
+    mean += noisy.S.values[k][0];
+    reported += noisy.S_relative_errors[k];
+  }
+  mean /= double(noisy.S.values.size());
+  reported /= double(noisy.S.values.size());
+  double spread = 0;
+  for (const Rgb& value : noisy.S.values) spread += (value[0] / mean - 1) * (value[0] / mean - 1);
+  spread = std::sqrt(spread / double(noisy.S.values.size()));
+  // Measured: spread 0.1023, reported 0.1018.
+  std::printf("S's bins: spread %.4f about their mean, reported %.4f on average\n", spread, reported);
+  EXPECT_GT(spread, 0.03);
+  EXPECT_NEAR(reported / spread, 1, 0.1) << reported << " " << spread;
+  const FactorizedScaling exact = tables(2);
+  for (std::size_t k = 0; k < exact.S.values.size(); ++k) {
+    EXPECT_NEAR(exact.S.values[k][0], 2, 1e-5);
+    EXPECT_LT(exact.S_relative_errors[k], 1e-6);
+  }
+}
+
 // With shared positions every wi bin of one wo reads the same cells: a direction-free R gives one
 // value per wo bin (the wi bins move together), unshared each bin its own. The per-view sampler is
 // called once per position and wo, with every wi at once; a separable R is reproduced as unshared
