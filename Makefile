@@ -122,9 +122,7 @@ subsurface: build
 # (the default) it takes about four hours on 2 cores, estimated from its sections timed separately
 # (the ball's sections 1-2 at 1K^2 with its squeezed tiles' tables, since 2026-11-30: about 100
 # minutes, and some 28% more of its and the torus's tables for S up to the view's horizon,
-# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches ""; about 25 more for
-# the noise's tables at 64x, with 16 paths per position since 2026-12-01, and an estimated 30 more for
-# the R tables at 32x with 16, the woven map's 477 s instead of 141). Run again, it goes on
+# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches ""). Run again, it goes on
 # where an interrupted run stopped (--resume): what is up to date in displacement-out/ is kept.
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR) --resume

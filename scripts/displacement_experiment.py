@@ -82,25 +82,14 @@ RATES = {"chapter": [],
          # n15-shared's saving spent on eight times the positions (docs/displacement.md §6).
          "shared8k": ["--paths", "4", "--angular-resolution", "15", "--pairs", "16000", "--positions", "8192",
                       "--shared-positions"]}
-# Beyond 32x a coarse cell holds more fine cells than a position's few paths see: at 64x each of the
-# noise's 4 paths stood for 1024 fine cells, and the S bins one sun reads moved its image by 2.1
-# points over three seeds (+2.97%, +1.25%, +0.85% against naive's +4.53%). With 16 paths two seeds
-# gave +0.61% and +0.63% (docs/displacement.md §9, "The noise at 64x"); the jackknife did not move it.
-# The sun's tables (R) need it from 32x on: the woven map's at 32x with 4 paths gave -2.07% and
-# +0.20% over two seeds (S's bins' median error 2.7%), with 16 -0.82% and -0.41% (1.8%; §9, "How far
-# the tables' draw moves the image"). R_ir's at 32x keep 4 (16 would take some 40 minutes a table).
-MORE_PATHS_BEYOND = {"shadowing": 16, "interreflection": 32}
-MORE_PATHS_TIMES = 4
-
-
-def rate_flags(rates, factor, scaling):
-    """The tool's flags of these rates at this factor and scaling: --paths times MORE_PATHS_TIMES beyond
-    MORE_PATHS_BEYOND's factor."""
-    flags = list(RATES[rates])
-    if factor > MORE_PATHS_BEYOND[scaling] and "--paths" in flags:
-        k = flags.index("--paths") + 1
-        flags[k] = str(int(flags[k]) * MORE_PATHS_TIMES)
-    return flags
+# The tables' estimates the tool draws (kTableSampling in prefilter/scaling_factorization.h): tables
+# of another are made anew. Until 2026-12-01 the k-th positions of all S bins shared one estimate
+# where they met the same coarse cell, which at 32x and 64x they always did: the S bins one sun reads
+# moved the image together, by 2.1 points over three seeds for the noise at 64x and by 2.3 over two
+# for the woven map at 32x. With each bin its own estimates, 4 paths per position, two seeds: the
+# noise at 64x +0.50% and +0.62%, the woven map at 32x -0.70% and -1.01% (docs/displacement.md §9,
+# "How far the tables' draw moves the image").
+TABLE_SAMPLING = 2
 
 
 CAMERA = {"position": [-0.55, -1.25, 1.05], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 34}
@@ -179,8 +168,8 @@ def same_brdf(written, brdf):
         all(rgb(written.get(k, 0)) == rgb(brdf.get(k, 0)) for k in ("specular", "diffuse"))
 
 
-def reusable(manifest, report, cells, factor, scaling, brdf, rates, stretches="", view_horizon=0.0,
-             base_curvature=0.0, relief_radius=0):
+def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0,
+             relief_radius=0):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
@@ -193,10 +182,12 @@ def reusable(manifest, report, cells, factor, scaling, brdf, rates, stretches=""
         return False
     if m.get("settings", {}).get("view_horizon_degrees", 0.0) != view_horizon:
         return False
+    if m.get("settings", {}).get("table_sampling", 1) != TABLE_SAMPLING:
+        return False  # made before the tables' estimates changed (kTableSampling)
     history = m.get("settings", {}).get("history", "")
     shared = "--shared-positions" in RATES[rates]  # n15's flags are a prefix of n15-shared's
     return (m.get("factor") == factor and m.get("cells", [0])[0] * factor == cells and
-            same_brdf(m.get("brdf", {}), brdf) and " ".join(rate_flags(rates, factor, scaling)) in history and
+            same_brdf(m.get("brdf", {}), brdf) and " ".join(RATES[rates]) in history and
             ("--shared-positions" in history) == shared)
 
 
@@ -221,10 +212,10 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # docs/displacement.md §6, "The relief term"): past their silhouettes the image sees their cells by
     # their height.
     relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2) if surface in CURVED else 0
-    if not reusable(manifest, report, map_cells(args, surface), factor, scaling, brdf or BRDF, rates, stretches,
-                    view_horizon, curvature, relief_radius):
+    if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
+                    curvature, relief_radius):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
-             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + rate_flags(rates, factor, scaling) +
+             "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
             (["--base-curvature", curvature] if curvature else []) +
@@ -536,7 +527,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
               " with the same settings are reused always." if args.resumed else ""), "",
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
-                                   f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4; --paths times 4 beyond 16x for R, beyond 32x for R_ir),"
+                                   f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4),"
                                    " not the chapter's."), "",
              "## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "

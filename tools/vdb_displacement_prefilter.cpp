@@ -6,6 +6,7 @@
 #include "libvdbappear/image/height_map_file.h"
 #include "libvdbappear/io/history.h"
 #include "libvdbappear/prefilter/prefiltered_surface_file.h"
+#include "libvdbappear/prefilter/scaling_factorization.h"
 #include "libvdbappear/render/scene_description.h"
 #include "libvdbappear/util/error.h"
 #include "libvdbappear/util/progress.h"
@@ -152,6 +153,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"positions_per_angular_bin", f.positions_per_angular_bin},
       {"bias_correction", f.jackknife ? "jackknife" : "none"},
       {"shared_positions", f.shared_positions},
+      {"table_sampling", kTableSampling},
       {"max_theta_degrees", f.max_theta_degrees},
       {"view_horizon_degrees", f.view_horizon_degrees},
       {"stretches", o.stretches},

@@ -140,6 +140,13 @@ AngularBinValue angularBinValue(const AngularBinSums& b, bool relief, const Fact
   return {S - B * b.mz / b.sum.prefiltered.max(1e-300), B, error};
 }
 
+// The visit of an S bin's k-th position: unique to the bin (`key`) and the position, and apart from
+// T's visits (below 2^32). Keyed by k alone, every bin's k-th position drew the same estimate
+// wherever the strata are the coarse cells (1024 positions over the 32^2 cells of a map at 32x): the
+// bins' errors moved together, and an image, which reads many bins, kept them whole instead of
+// averaging them (docs/displacement.md §6, "The tables' own error").
+std::uint64_t angularVisit(std::int64_t key, int k) { return (std::uint64_t(key + 1) << 32) | std::uint64_t(k); }
+
 // S's bin: R at the bins' directions over positions stratified over the whole map, one per stratum.
 // `key` keys its random numbers.
 AngularBinValue angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& wo, std::int64_t key, int cells_x,
@@ -152,7 +159,7 @@ AngularBinValue angularBin(const ScalingSampler& R, const Vec3& wi, const Vec3& 
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    sums.add(R(cu, cv, std::uint64_t(k), wi, wo), relief ? relief->at(cu, cv) : 0.0, s.jackknife);
+    sums.add(R(cu, cv, angularVisit(key, k), wi, wo), relief ? relief->at(cu, cv) : 0.0, s.jackknife);
   }
   return angularBinValue(sums, relief != nullptr, s);
 }
@@ -172,7 +179,7 @@ void angularBinsOfView(const ViewScalingSampler& R, const std::vector<Vec3>& wis
   for (int k = 0; k < count; ++k) {
     const Point2 x = strata.position(k, rng.uniform2());
     const auto [cu, cv] = cellAt(x, cells_x, cells_y);
-    R(cu, cv, std::uint64_t(k), wis, wo, batch.data());
+    R(cu, cv, angularVisit(wo_key, k), wis, wo, batch.data());
     const double z = relief ? relief->at(cu, cv) : 0.0;
     for (std::size_t w = 0; w < wis.size(); ++w) sums[w].add(batch[w], z, s.jackknife);
   }

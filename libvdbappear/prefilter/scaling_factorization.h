@@ -32,10 +32,11 @@ struct ScalingSample {
   Rgb original = Rgb::Zero();     // f_eff or f_ir_eff of G_orig with f_orig (times a weight)
   Rgb prefiltered = Rgb::Zero();  // f_eff of G_low with f'_low (times the same or a like weight)
 };
-// Called from several threads. `visit` keys the estimate's random numbers: a bin's k-th position
-// is its visit k, so that two positions of a bin in one coarse cell are independent estimates (keyed
-// by the cell alone, a bin of more positions than the map has cells counted each estimate again,
-// and gained nothing from them; docs/displacement.md §6).
+// Called from several threads. `visit` keys the estimate's random numbers: each position of each
+// bin has a visit of its own, so that two positions of a bin in one coarse cell are independent
+// estimates (keyed by the cell alone, a bin of more positions than the map has cells counted each
+// estimate again, and gained nothing from them; docs/displacement.md §6), and so are the positions
+// of two bins in one cell (keyed by the position's number alone, the bins' errors moved together).
 using ScalingSampler = std::function<ScalingSample(int u, int v, std::uint64_t visit, const Vec3& wi, const Vec3& wo)>;
 // The samples of one view wo and many light directions at once: out[k] for wis[k]. Where one
 // estimate serves them all (a path's directions do not depend on wi) this costs little more than
@@ -43,6 +44,12 @@ using ScalingSampler = std::function<ScalingSample(int u, int v, std::uint64_t v
 using ViewScalingSampler = std::function<void(int u, int v, std::uint64_t visit, const std::vector<Vec3>& wis,
                                               const Vec3& wo, ScalingSample* out)>;
 ViewScalingSampler sampledPerLight(ScalingSampler R);
+
+// Which estimates the tables draw, recorded in the files' settings ("table_sampling") so that a
+// table made before a change of them is not taken for one made after: 2 since 2026-12-01 (each
+// position of each S bin its own estimate); 1 or none before (the k-th positions of all bins shared
+// one where they met the same coarse cell).
+constexpr int kTableSampling = 2;
 
 struct FactorizationSettings {  // defaults: the chapter's (§4.6, §4.7.1)
   int spatial_resolution = 4;         // M
