@@ -113,6 +113,13 @@ nlohmann::json errorQuantiles(std::vector<double> errors) {
   return {{"median", at(0.5)}, {"p90", at(0.9)}, {"p99", at(0.99)}, {"max", errors.back()}};
 }
 
+// errorQuantiles() for the terminal: "median 2.66%, 90% 5.38%, 99% 11.87%".
+std::string errorQuantilesText(const nlohmann::json& q) {
+  if (q.is_null()) return "n/a";
+  return fmt::format("median {:.2f}%, 90% {:.2f}%, 99% {:.2f}%", 100 * q["median"].get<double>(),
+                     100 * q["p90"].get<double>(), 100 * q["p99"].get<double>());
+}
+
 int prefilter(const Options& o, const std::string& history) {
   tool::checkOutputs(o.input, o.output, o.report);
   for (const char* part : {"height", "lobes", "T", "S"})
@@ -181,12 +188,7 @@ int prefilter(const Options& o, const std::string& history) {
                read_seconds, p.seconds.height, p.seconds.ndfs, p.seconds.scaling, write_seconds, kTool,
                ranges["T"]["min"].get<double>(), ranges["T"]["max"].get<double>(), ranges["S"]["min"].get<double>(),
                ranges["S"]["max"].get<double>(), ranges["S"]["mean"].get<double>(),
-               ranges["S"]["relative_standard_error"].is_null()
-                   ? std::string("n/a")
-                   : fmt::format("median {:.2f}%, 90% {:.2f}%, 99% {:.2f}%",
-                                 100 * ranges["S"]["relative_standard_error"]["median"].get<double>(),
-                                 100 * ranges["S"]["relative_standard_error"]["p90"].get<double>(),
-                                 100 * ranges["S"]["relative_standard_error"]["p99"].get<double>()));
+               errorQuantilesText(ranges["S"]["relative_standard_error"]));
   if (!o.report.empty())
     tool::writeJsonReport(o.report, {{"tool", kTool},
                                      {"version", kVersion},
