@@ -30,7 +30,7 @@ Ray PinholeCamera::ray(double x, double y) const {
   // A pixel is (2 tan(fov/2) / height)^2 of the image plane at distance 1; seen from the camera at
   // angle alpha off axis it subtends that times cos^3 alpha.
   const double cos_alpha = d.dot(forward_);
-  return {position_, d, 2 * tan_half_fov_ / height_ * std::pow(cos_alpha, 1.5)};
+  return {position_, d, 2 * tan_half_fov_ / height_ * cos_alpha * std::sqrt(cos_alpha)};  // cos^1.5
 }
 
 CameraPose framedView(const Aabb& box, const std::string& side, double fov_degrees, double aspect) {

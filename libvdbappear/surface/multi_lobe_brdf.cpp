@@ -31,7 +31,18 @@ MultiLobeBrdf::MultiLobeBrdf(const VmfMixture& ndf, const MicrofacetBrdf& base) 
 
 double MultiLobeBrdf::limitedCosine(double cos_theta_i) { return std::max(cos_theta_i, kMinCosTheta); }
 
-Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const { return projected(wi, wo, TileStretch()); }
+// The square tile's sum, which every shading point of a planar model evaluates: a lobe facing away
+// from wi is left before its terms are formed, and each lobe's own frame serves (onSurface() would
+// copy it). The same arithmetic as projected(wi, wo, TileStretch()), bit for bit.
+Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo) const {
+  Rgb sum = Rgb::Zero();
+  for (const Lobe& l : lobes_) {
+    const double cos_i = l.frame.n.dot(wi);  // <mu_k, wi>
+    if (cos_i <= 0) continue;
+    sum += l.brdf.eval(l.frame.toLocal(wo), l.frame.toLocal(wi)) * (l.amplitude * cos_i);
+  }
+  return sum;
+}
 
 MultiLobeBrdf::OnSurface MultiLobeBrdf::onSurface(const Lobe& l, const Vec3& vi, const TileStretch& stretch) {
   const double cos_i = l.frame.n.dot(vi);  // <mu_k, vi>, of the sign of <A^-T mu_k, wi>
@@ -42,11 +53,12 @@ MultiLobeBrdf::OnSurface MultiLobeBrdf::onSurface(const Lobe& l, const Vec3& vi,
 }
 
 Rgb MultiLobeBrdf::projected(const Vec3& wi, const Vec3& wo, const TileStretch& stretch) const {
-  const Vec3 vi = stretch.isIdentity() ? wi : stretch.toMap(wi);
+  if (stretch.isIdentity()) return projected(wi, wo);
+  const Vec3 vi = stretch.toMap(wi);
   Rgb sum = Rgb::Zero();
   for (const Lobe& l : lobes_) {
+    if (l.frame.n.dot(vi) <= 0) continue;  // onSurface()'s cos_i, before its frame is built
     const OnSurface s = onSurface(l, vi, stretch);
-    if (s.cos_i <= 0) continue;
     sum += l.brdf.eval(s.frame.toLocal(wo), s.frame.toLocal(wi)) * (l.amplitude * s.cos_i / s.length);
   }
   return sum;
