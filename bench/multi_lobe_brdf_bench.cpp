@@ -1,5 +1,5 @@
 // Google Benchmark of a prefiltered model's shading on the square tile (docs/displacement.md §8):
-// MultiLobeBrdf::eval, Eq. (4.5)'s sum over six lobes of the base BRDF as a coarse cell of
+// MultiLobeBrdf::eval and ::sample, Eq. (4.5)'s sum over six lobes of the base BRDF as a coarse cell of
 // vdb_displacement_prefilter holds them, against the base BRDF's own eval (one GGX lobe), the
 // baseline measured in the same run; and PinholeCamera::ray, which every path starts with. Random
 // directions over the upper hemisphere, lobes tilted up to 40 degrees. One thread.
@@ -61,6 +61,21 @@ void BM_MultiLobeEval(benchmark::State& state) {
   evalOverPairs(state, [&f](const Vec3& wi, const Vec3& wo) { return f.eval(wi, wo); });
 }
 
+// MultiLobeBrdf::sample: a lobe, its direction, and the mixture's pdf and weight (Eq. 4.5).
+void BM_MultiLobeSample(benchmark::State& state) {
+  const MultiLobeBrdf f(sixTiltedLobes(), kGlossyBase);
+  const std::vector<DirectionPair> pairs = hemispherePairs(1 << 14);
+  RandomStream random(7, {0});
+  std::vector<double> u(3 * pairs.size());
+  for (double& v : u) v = random.uniform();
+  Rgb sum = Rgb::Zero();
+  for (auto _ : state)
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      sum += f.sample(pairs[k].wo, u[3 * k], Point2(u[3 * k + 1], u[3 * k + 2])).weight;
+  benchmark::DoNotOptimize(sum);
+  state.counters["samples_per_s"] = benchmark::Counter(double(pairs.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void BM_CameraRay(benchmark::State& state) {
   const PinholeCamera camera({Vec3(-8.8, -20, 16.8), Vec3(8, 8, 0), Vec3(0, 0, 1), 34}, 192, 144);
   double footprint = 0;
@@ -75,6 +90,7 @@ void BM_CameraRay(benchmark::State& state) {
 
 BENCHMARK(BM_BaseBrdfEval)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MultiLobeEval)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MultiLobeSample)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CameraRay)->Unit(benchmark::kMicrosecond);
 
 }  // namespace vdbappear

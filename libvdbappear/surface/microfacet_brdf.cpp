@@ -47,13 +47,14 @@ double MicrofacetBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
   return specular_probability_ * specular + (1 - specular_probability_) * cosineHemispherePdf(wi.z());
 }
 
+Vec3 MicrofacetBrdf::sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const {
+  return u_lobe < specular_probability_ ? reflect(wo, distribution_.sampleNormal(wo, u)) : sampleCosineHemisphere(u);
+}
+
 BrdfSample MicrofacetBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u) const {
   BrdfSample s;
   if (wo.z() <= 0) return s;
-  if (u_lobe < specular_probability_)
-    s.wi = reflect(wo, distribution_.sampleNormal(wo, u));
-  else
-    s.wi = sampleCosineHemisphere(u);
+  s.wi = sampleDirection(wo, u_lobe, u);
   if (s.wi.z() <= 0) return s;
   s.pdf = pdf(wo, s.wi);
   if (s.pdf > 0) s.weight = eval(wo, s.wi) * (s.wi.z() / s.pdf);

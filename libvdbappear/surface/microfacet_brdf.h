@@ -28,6 +28,9 @@ class MicrofacetBrdf {
   // One lobe is chosen with the probability specularProbability(), then wi from it: the specular
   // lobe reflects wo about distribution().sampleNormal(wo), the diffuse lobe is cosine-weighted.
   BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
+  // sample()'s direction alone (wo.z > 0), without its pdf and weight: for a mixture of lobes
+  // (surface/multi_lobe_brdf.h), whose pdf and weight are the mixture's.
+  Vec3 sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // the mixture's solid-angle density of wi
   double specularProbability() const { return specular_probability_; }
 

@@ -129,10 +129,13 @@ BrdfSample MultiLobeBrdf::sampleLobes(const Vec3& wo, double u_lobe, const Point
   while (k + 1 < lobes_.size() && u_lobe >= probability[k]) u_lobe -= probability[k++];
   u_lobe = std::min(u_lobe / probability[k], 1 - 1e-16);  // reused for the base BRDF's lobe choice
   const Lobe& l = lobes_[k];
-  const BrdfSample local = l.brdf.sample(l.frame.toLocal(wo), u_lobe, u);
+  const Vec3 wo_local = l.frame.toLocal(wo);
   BrdfSample s;
-  if (!(local.pdf > 0)) return s;
-  s.wi = l.frame.toWorld(local.wi);
+  if (!(wo_local.z() > 0)) return s;  // lobeProbabilities() left no such lobe; kept for rounding
+  // The lobe's direction alone: its own pdf and weight are not the mixture's, which follow.
+  const Vec3 wi_local = l.brdf.sampleDirection(wo_local, u_lobe, u);
+  if (!(wi_local.z() > 0)) return s;
+  s.wi = l.frame.toWorld(wi_local);
   s.pdf = lobePdf(wo, s.wi);
   return s;
 }
