@@ -57,6 +57,7 @@ import time
 
 import resumable
 import sphere_regions
+import table_draw
 import torus_regions
 
 BRDF = {"distribution": "ggx", "roughness": 0.3, "specular": 0.04, "diffuse": [0.7, 0.55, 0.4]}
@@ -346,6 +347,19 @@ def curved_regions(args, out, surface, lighting, reference, images, reference_me
     return regions
 
 
+def tables_spread(args, prefilter_report):
+    """How far S's draw moves a planar image's mean under the sun (scripts/table_draw.py), every bin
+    of the table's median relative error; None where its bins do not err independently (shared
+    positions) or report no error."""
+    q = prefilter_report["scaling"]["S"].get("relative_standard_error")
+    if not q or prefilter_report["settings"].get("shared_positions"):
+        return None
+    flags = RATES[args.rates]
+    n = int(flags[flags.index("--angular-resolution") + 1]) if "--angular-resolution" in flags else 15
+    width, height = [int(v) for v in args.res.split("x")]
+    return table_draw.image_spread(q["median"], table_draw.bins_read(CAMERA, SUN["direction"], n, width, height))
+
+
 def study_factors(args, surface):
     """Sections 1-2's factors for this surface: --factors and, unless --no-chapter-scales, its scale in
     the chapter (CHAPTER_SCALES) where its map's cells allow it."""
@@ -380,6 +394,8 @@ def study(args, out, surface, factor, rows, timing_rows):
                 out, f"{tag}_{model}", f"{surface}_{lighting}_reference")
         if surface in CURVED:
             row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
+        if lighting == "direct" and surface not in CURVED:
+            row["tables_spread"] = tables_spread(args, prefilter_report)
         naive, full = abs(row["naive"]), abs(row["full"])
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
@@ -534,13 +550,17 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
              "torus as the bump). After each error, ± one standard error from the renders' own noise (the model's "
              "and the reference's); the tables' own draw adds to it (the precomputation table's \"S's bins' "
-             "error\").", "",
-             "| surface | factor | light | naive | multi-lobe | full | gate |", "|---|---|---|---|---|---|---|"]
+             "error\"). \"S's draw\": how far that draw moves the full model's image mean, one standard "
+             "deviation, on the planes under the sun, where the image reads few of S's bins "
+             "(scripts/table_draw.py, each bin of the table's median error; docs/displacement.md §9).", "",
+             "| surface | factor | light | naive | multi-lobe | full | S's draw | gate |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         chapter = " (the chapter's)" if CHAPTER_SCALES.get(r["surface"]) == r["factor"] else ""
         errors = " | ".join(with_standard_error(r, m) for m in ("naive", "multi-lobe", "full"))
+        draw = r.get("tables_spread")
         lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {errors} |"
-                     f" {'pass' if r['passed'] else 'fail'} |")
+                     f" {'n/a' if draw is None else f'± {draw:.2%}'} | {'pass' if r['passed'] else 'fail'} |")
     curved_rows = [r for r in rows if "regions" in r]
     if curved_rows:
         lines += ["", "## The curved surfaces' error by region", "",
