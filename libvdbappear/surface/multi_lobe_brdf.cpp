@@ -131,7 +131,8 @@ BrdfSample MultiLobeBrdf::sampleLobes(const Vec3& wo, double u_lobe, const Point
   const Lobe& l = lobes_[k];
   const Vec3 wo_local = l.frame.toLocal(wo);
   BrdfSample s;
-  if (!(wo_local.z() > 0)) return s;  // lobeProbabilities() left no such lobe; kept for rounding
+  // lobeProbabilities() gives no weight to a lobe whose axis wo does not face; toLocal() may round.
+  if (!(wo_local.z() > 0)) return s;
   // The lobe's direction alone: its own pdf and weight are not the mixture's, which follow.
   const Vec3 wi_local = l.brdf.sampleDirection(wo_local, u_lobe, u);
   if (!(wi_local.z() > 0)) return s;
