@@ -50,6 +50,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--no-chapter-scales]
 """
 import argparse
+import functools
 import json
 import math
 import pathlib
@@ -347,6 +348,13 @@ def curved_regions(args, out, surface, lighting, reference, images, reference_me
     return regions
 
 
+@functools.lru_cache(maxsize=None)
+def sun_bins(n, width, height):
+    """The S bins (N = n) that the planes' images read under the sun, and their weights
+    (table_draw.bins_read): the same for every plane, so traced once."""
+    return table_draw.bins_read(CAMERA, SUN["direction"], n, width, height)
+
+
 def tables_spread(args, prefilter_report):
     """How far S's draw moves a planar image's mean under the sun (scripts/table_draw.py), every bin
     of the table's median relative error; None where its bins do not err independently (shared
@@ -357,7 +365,7 @@ def tables_spread(args, prefilter_report):
     flags = RATES[args.rates]
     n = int(flags[flags.index("--angular-resolution") + 1]) if "--angular-resolution" in flags else 15
     width, height = [int(v) for v in args.res.split("x")]
-    return table_draw.image_spread(q["median"], table_draw.bins_read(CAMERA, SUN["direction"], n, width, height))
+    return table_draw.image_spread(q["median"], sun_bins(n, width, height))
 
 
 def study_factors(args, surface):
