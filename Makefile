@@ -119,11 +119,10 @@ subsurface: build
 # Displacement-map prefiltering (issue 23): reference, naive, multi-lobe and full models of three
 # procedural surfaces, a ball and a torus at two scales and at each one's scale in the chapter
 # (Table 4.3), under direct light and global illumination; equal time; storage. At the n15 rates
-# (the default) it takes about four hours on 2 cores, estimated from its sections timed separately
-# (the ball's sections 1-2 at 1K^2 with its squeezed tiles' tables, since 2026-11-30: about 100
-# minutes, and some 28% more of its and the torus's tables for S up to the view's horizon,
-# --curved-view-horizon; 29 with the square tile's tables alone, --ball-stretches ""). Run again, it goes on
-# where an interrupted run stopped (--resume): what is up to date in displacement-out/ is kept.
+# (the default) it takes more than five hours on 2 cores: run from a fresh clone (2026-12-01), its
+# models' precomputation alone took 4.9 hours, the renders besides (docs/displacement.md §9). Run
+# again, it goes on where an interrupted run stopped (--resume): what is up to date in
+# displacement-out/ is kept.
 displacement: build
 	@scripts/displacement_experiment.py --build $(BUILD_DIR) --resume
 
