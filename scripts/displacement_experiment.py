@@ -355,17 +355,15 @@ def sun_bins(n, width, height):
     return table_draw.bins_read(CAMERA, SUN["direction"], n, width, height)
 
 
-def tables_spread(args, prefilter_report):
+def tables_spread(manifest, prefilter_report, res):
     """How far S's draw moves a planar image's mean under the sun (scripts/table_draw.py), every bin
     of the table's median relative error; None where its bins do not err independently (shared
-    positions) or report no error."""
+    positions) or report no error. S's N is the manifest's own."""
     q = prefilter_report["scaling"]["S"].get("relative_standard_error")
     if not q or prefilter_report["settings"].get("shared_positions"):
         return None
-    flags = RATES[args.rates]
-    n = int(flags[flags.index("--angular-resolution") + 1]) if "--angular-resolution" in flags else 15
-    width, height = [int(v) for v in args.res.split("x")]
-    return table_draw.image_spread(q["median"], sun_bins(n, width, height))
+    n = json.loads(manifest.read_text())["angular_resolution"]
+    return table_draw.image_spread(q["median"], sun_bins(n, *res))
 
 
 def study_factors(args, surface):
@@ -403,7 +401,7 @@ def study(args, out, surface, factor, rows, timing_rows):
         if surface in CURVED:
             row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
         if lighting == "direct" and surface not in CURVED:
-            row["tables_spread"] = tables_spread(args, prefilter_report)
+            row["tables_spread"] = tables_spread(manifest, prefilter_report, tuple(res))
         naive, full = abs(row["naive"]), abs(row["full"])
         row["passed"] = full <= 0.03 and full <= naive / 3
         if lighting == "gi" and args.equal_time > 0:
