@@ -325,7 +325,8 @@ def mean_error_standard_error(out, test, reference):
 
 def region_masks(args, out, surface, lighting):
     """The masks of a curved surface's regions: the ball's by sphere_regions.py, the torus's by
-    torus_regions.py; [(name, path, pixel count)]. The regions follow SUN, which both lightings hold."""
+    torus_regions.py; [(name, path, pixel count)]. The regions follow SUN, which every lighting but "sky"
+    holds (under "sky" alone they still split the surface by where the sun would be)."""
     width, height = [int(v) for v in args.res.split("x")]
     camera, tag = CURVED[surface]["camera"], f"{surface}_{lighting}"
     if surface == "ball":
@@ -437,12 +438,12 @@ def light_split(rows):
     weighted by the shares add up to the error under "gi" within the renders' noise (the images add)."""
     by_key = {(r["surface"], r["factor"], r["lighting"]): r for r in rows}
     splits = []
-    for (surface, factor, lighting), gi in by_key.items():
-        sun, sky = by_key.get((surface, factor, "sun")), by_key.get((surface, factor, "sky"))
-        if lighting != "gi" or sun is None or sky is None:
+    for gi in (r for r in rows if r["lighting"] == "gi"):
+        sun, sky = (by_key.get((gi["surface"], gi["factor"], light)) for light in ("sun", "sky"))
+        if sun is None or sky is None:
             continue
         share = sun["reference_mean"] / (sun["reference_mean"] + sky["reference_mean"])
-        split = {"surface": surface, "factor": factor, "sun_share": share}
+        split = {"surface": gi["surface"], "factor": gi["factor"], "sun_share": share}
         for model in ("naive", "multi-lobe", "full"):
             split[model] = {"sun": sun[model], "sky": sky[model], "gi": gi[model],
                             "sum": share * sun[model] + (1 - share) * sky[model]}
@@ -570,6 +571,7 @@ def table_error(ranges):
 
 
 def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
+    splits = light_split(rows)
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
@@ -598,7 +600,6 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         draw = r.get("tables_spread")
         lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {errors} |"
                      f" {'n/a' if draw is None else f'± {draw:.2%}'} | {gate_text(r['passed'])} |")
-    splits = light_split(rows)
     if splits:
         lines += ["", "## Global illumination by light", "",
                   "The sun and the sky each alone with every bounce (`--lighting sun,sky`): an image under both is "
@@ -705,7 +706,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
     (out / "report.md").write_text("\n".join(lines) + "\n")
-    (out / "report.json").write_text(json.dumps({"rows": rows, "light_split": light_split(rows), "precomputation": timing_rows, "level_of_detail": lod_rows,
+    (out / "report.json").write_text(json.dumps({"rows": rows, "light_split": splits, "precomputation": timing_rows, "level_of_detail": lod_rows,
                                                  "chapter_scale": list(scale_rows), "resumed": args.resumed}, indent=1))
 
 
