@@ -24,7 +24,9 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
    its inner, saddle half), past the silhouette (sphere_regions.py, torus_regions.py). With --lighting
    sun,sky besides gi, global illumination's error split by light: the sun and the sky each alone, every
    bounce, no gate of their own; the images add, so each error under gi is theirs weighted by each light's
-   share, and the report shows where naive's errors under the two cancel.
+   share, and the report shows where naive's errors under the two cancel. With --table-seeds 1,2,...,
+   the full model's tables also made at each other seed and rendered: its error over them, each, their
+   mean and its standard error (the tables' draw measured, for information; the gate judges seed 1's).
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
@@ -46,7 +48,8 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
    surfaces' 85; the chapter's ball, Table 4.3: its bumps map at 1K^2 over 4^2 tiles, at 16x).
 Results: displacement-out/report.md and report.json, with the images.
 Usage: scripts/displacement_experiment.py [--build build] [--out displacement-out] [--cells 1024]
-        [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi[,sun,sky]] [--spp-ref 1024]
+        [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi[,sun,sky]]
+        [--table-seeds 1[,2,...]] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
         [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--resume] [--no-study]
@@ -178,11 +181,13 @@ def same_brdf(written, brdf):
 
 
 def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0,
-             relief_radius=0):
+             relief_radius=0, seed=1):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
+    if m.get("settings", {}).get("seed", 1) != seed:
+        return False
     if abs(m.get("settings", {}).get("base_curvature", 0.0) - base_curvature) > 1e-9:
         return False
     if m.get("settings", {}).get("relief_radius", 0) != relief_radius:
@@ -204,8 +209,10 @@ def map_cells(args, surface):
     return {"ball": args.ball_cells, "torus": args.torus_cells, "ball_scale": args.ball_scale_cells}.get(surface, args.cells)
 
 
-def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
-    """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report."""
+def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1):
+    """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report;
+    `seed`: vdb_displacement_prefilter's (the tables' positions and paths), other than 1 named in the files."""
+    tag += "" if seed == 1 else f"_seed{seed}"
     manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
     report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
     build, rates = args.build, args.rates
@@ -222,9 +229,10 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag=""):
     # their height.
     relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2) if surface in CURVED else 0
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
-                    curvature, relief_radius):
+                    curvature, relief_radius, seed):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
+            (["--seed", seed] if seed != 1 else []) +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
             (["--base-curvature", curvature] if curvature else []) +
@@ -406,6 +414,8 @@ def study(args, out, surface, factor, rows, timing_rows):
             row[model] = c["mean_relative_error"]
             row.setdefault("standard_error", {})[model] = mean_error_standard_error(
                 out, f"{tag}_{model}", f"{surface}_{lighting}_reference")
+        if len(table_seeds(args)) > 1:
+            row["full_over_seeds"] = full_over_seeds(args, out, surface, factor, lighting, reference, row["full"], camera)
         if surface in CURVED:
             row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
         if lighting == "direct" and surface not in CURVED:
@@ -426,6 +436,34 @@ def study(args, out, surface, factor, rows, timing_rows):
         rows.append(row)
         print(f"{tag}: mean error naive {row['naive']:+.2%}, multi-lobe {row['multi-lobe']:+.2%}, "
               f"full {row['full']:+.2%} ({gate_text(row['passed']).upper()})", flush=True)
+
+
+def table_seeds(args):
+    return [int(seed) for seed in args.table_seeds.split(",")]
+
+
+def full_over_seeds(args, out, surface, factor, lighting, reference, first_error, camera):
+    """The full model's error with its tables made at each of --table-seeds (the first is the row's own):
+    how far the tables' draw moves the image mean, measured (seed_summary)."""
+    res = [int(v) for v in args.res.split("x")]
+    scaling = "shadowing" if lighting == "direct" else "interreflection"
+    errors = [first_error]
+    for seed in table_seeds(args)[1:]:
+        manifest, _ = prefilter(args, out, surface, factor, scaling, seed=seed)
+        name = f"{surface}_{factor}x_{lighting}_full_seed{seed}"
+        image, _ = render(args, out, name, height_field("full", surface, manifest), lighting, res, spp=args.spp,
+                          camera=camera)
+        errors.append(compare(args.build, reference, image)["mean_relative_error"])
+    return {"seeds": table_seeds(args), **seed_summary(errors)}
+
+
+def seed_summary(errors):
+    """The errors of one model over its tables' seeds: each, their mean, their sample standard deviation
+    (the tables' draw with the renders' noise) and the mean's standard error (that over sqrt(n))."""
+    n = len(errors)
+    mean = sum(errors) / n
+    deviation = math.sqrt(sum((e - mean) ** 2 for e in errors) / (n - 1)) if n > 1 else float("nan")
+    return {"errors": errors, "mean": mean, "deviation": deviation, "standard_error": deviation / math.sqrt(n)}
 
 
 def gate_text(passed):
@@ -575,6 +613,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
+             (f" --table-seeds {args.table_seeds}" if len(table_seeds(args)) > 1 else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine." +
              (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
@@ -600,6 +639,24 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         draw = r.get("tables_spread")
         lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {errors} |"
                      f" {'n/a' if draw is None else f'± {draw:.2%}'} | {gate_text(r['passed'])} |")
+    seeded = [r for r in rows if "full_over_seeds" in r]
+    if seeded:
+        lines += ["", "## The full model over its tables' seeds", "",
+                  f"The full model with its tables made at each of `--table-seeds {args.table_seeds}` (the first is the "
+                  "table above's), each rendered at --spp against the same reference: the spread is the tables' draw "
+                  "with the renders' noise. The gate above judges the first seed's tables alone; \"mean within naive / "
+                  "3\" says whether the mean over the seeds, less two of its standard errors, lies within the gate's "
+                  "bar, for information (it is not the issue's gate).", "",
+                  "| surface | factor | light | naive | naive / 3 | full, each seed | mean ± s.e. | std. dev. |"
+                  " mean within naive / 3 |", "|---|---|---|---|---|---|---|---|---|"]
+        for r in seeded:
+            f = r["full_over_seeds"]
+            bar = min(abs(r["naive"]) / 3, 0.03)
+            within = abs(f["mean"]) - 2 * f["standard_error"] <= bar
+            lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {bar:.2%} | " +
+                         ", ".join(f"{e:+.2%}" for e in f["errors"]) +
+                         f" | {f['mean']:+.2%} ± {f['standard_error']:.2%} | {f['deviation']:.2%} | "
+                         f"{'yes' if within else 'no'} (|mean| {abs(f['mean']):.2%}) |")
     if splits:
         lines += ["", "## Global illumination by light", "",
                   "The sun and the sky each alone with every bounce (`--lighting sun,sky`): an image under both is "
@@ -761,6 +818,9 @@ def main():
     parser.add_argument("--ball-scale-tiles", default="8,52",
                         help="tiles around the ball's equator in section 5, T x T/2 in all (even counts)")
     parser.add_argument("--ball-scale-res", default="128x96", help="of the ball's images in section 5")
+    parser.add_argument("--table-seeds", default="1",
+                        help="seeds of the full model's tables (vdb_displacement_prefilter --seed), e.g. 1,2,3,4,5: "
+                             "sections 1-2 also make and render them and report the full model's error over them")
     parser.add_argument("--resume", action="store_true",
                         help="skip each map and render that an earlier run into --out made with the same command from "
                              "files that have not changed since (make's rule; scripts/resumable.py): an interrupted run "
@@ -771,6 +831,12 @@ def main():
                         help="sections 1-3 at --factors only, not also at each surface's scale in the chapter "
                              f"(Table 4.3: {CHAPTER_SCALES_TEXT})")
     args = parser.parse_args()
+    try:
+        seeds = table_seeds(args)
+    except ValueError:
+        seeds = [0]
+    if seeds[0] != 1 or len(set(seeds)) != len(seeds) or min(seeds) < 1:
+        parser.error(f"--table-seeds {args.table_seeds!r}: distinct positive seeds, the first 1 (the run's own tables)")
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
     try:

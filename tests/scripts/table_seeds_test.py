@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""scripts/displacement_experiment.py --table-seeds: the full model's tables made again at other seeds
+(vdb_displacement_prefilter --seed, named apart from the run's own) and its error summarised over them."""
+
+import json
+import math
+import pathlib
+import statistics
+import sys
+import tempfile
+import types
+import unittest
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[2] / "scripts"))
+
+import displacement_experiment as experiment  # noqa: E402
+
+
+class SeedSummary(unittest.TestCase):
+    def test_mean_deviation_and_standard_error(self):
+        errors = [-0.00702, -0.01010, -0.00289, -0.00100, -0.00022]  # docs §9's five woven seeds
+        s = experiment.seed_summary(errors)
+        self.assertAlmostEqual(s["mean"], statistics.mean(errors), places=15)
+        self.assertAlmostEqual(s["deviation"], statistics.stdev(errors), places=15)
+        self.assertAlmostEqual(s["standard_error"], statistics.stdev(errors) / math.sqrt(5), places=15)
+        self.assertEqual(s["errors"], errors)
+
+    def test_sample_not_population_deviation(self):
+        """Negative control: dividing by n instead of n - 1 would be smaller by sqrt(4 / 5)."""
+        s = experiment.seed_summary([0.0, 0.02])
+        self.assertAlmostEqual(s["deviation"], math.sqrt(2) * 0.01, places=15)
+        self.assertNotAlmostEqual(s["deviation"], statistics.pstdev([0.0, 0.02]), places=6)
+
+    def test_one_seed_has_no_spread(self):
+        self.assertTrue(math.isnan(experiment.seed_summary([0.01])["deviation"]))
+
+
+class PrefilterSeed(unittest.TestCase):
+    """prefilter() passes --seed to the tool and names the files after the seed, so that every seed's tables
+    sit side by side and the run's own (seed 1) keep their names; an earlier run's files of another seed are
+    not reused."""
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+        self.out = pathlib.Path(self.dir.name)
+        self.commands = []
+        self.saved_run = experiment.run
+        experiment.run = self.fake_run
+        self.args = types.SimpleNamespace(build="build", rates="n15", ball_stretches="", curved_view_horizon=88.0,
+                                          curved_tables=True, relief_radius=2, cells=64, ball_cells=64, torus_cells=64,
+                                          ball_scale_cells=64)
+
+    def tearDown(self):
+        experiment.run = self.saved_run
+        self.dir.cleanup()
+
+    def fake_run(self, cmd):
+        """Writes the manifest and report that vdb_displacement_prefilter would, with its --seed."""
+        cmd = [str(c) for c in cmd]
+        self.commands.append(cmd)
+        seed = int(cmd[cmd.index("--seed") + 1]) if "--seed" in cmd else 1
+        factor = int(cmd[cmd.index("--factor") + 1])
+        settings = {"seed": seed, "history": " ".join(cmd), "table_sampling": experiment.TABLE_SAMPLING}
+        pathlib.Path(cmd[2]).write_text(json.dumps({"factor": factor, "cells": [64 // factor], "settings": settings,
+                                                    "brdf": experiment.BRDF}))
+        pathlib.Path(cmd[cmd.index("--report") + 1]).write_text(json.dumps({"settings": settings}))
+        return ""
+
+    def test_seed_in_flags_and_names(self):
+        manifest, report = experiment.prefilter(self.args, self.out, "noise", 8, "shadowing", seed=3)
+        self.assertEqual(manifest.name, "noise_8x_shadowing_seed3.json")
+        self.assertEqual(report["settings"]["seed"], 3)
+        [cmd] = self.commands
+        self.assertEqual(cmd[cmd.index("--seed") + 1], "3")
+
+    def test_the_runs_own_tables_keep_their_names_and_flags(self):
+        manifest, _ = experiment.prefilter(self.args, self.out, "noise", 8, "shadowing")
+        self.assertEqual(manifest.name, "noise_8x_shadowing.json")
+        self.assertNotIn("--seed", self.commands[0])
+
+    def test_reused_only_at_the_same_seed(self):
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing", seed=2)
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing", seed=2)
+        self.assertEqual(len(self.commands), 1)
+        # Negative control: a manifest of seed 2 under seed 4's name is made again.
+        (self.out / "noise_8x_shadowing_seed2.json").rename(self.out / "noise_8x_shadowing_seed4.json")
+        (self.out / "noise_8x_shadowing_seed2.report.json").rename(self.out / "noise_8x_shadowing_seed4.report.json")
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing", seed=4)
+        self.assertEqual(len(self.commands), 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
