@@ -211,7 +211,8 @@ def map_cells(args, surface):
 
 def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1):
     """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report;
-    `seed`: vdb_displacement_prefilter's (the tables' positions and paths), other than 1 named in the files."""
+    `seed`: vdb_displacement_prefilter's (the NDFs' EM, the tables' positions and paths), other than 1 named in
+    the files."""
     tag += "" if seed == 1 else f"_seed{seed}"
     manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
     report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
