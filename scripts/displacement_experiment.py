@@ -60,6 +60,7 @@ import functools
 import json
 import math
 import pathlib
+import statistics
 import time
 
 import resumable
@@ -397,7 +398,7 @@ def study(args, out, surface, factor, rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
     camera = CURVED[surface]["camera"] if surface in CURVED else CAMERA
     for lighting in args.lighting.split(","):
-        scaling = "shadowing" if lighting == "direct" else "interreflection"
+        scaling = scaling_for(lighting)
         manifest, prefilter_report = prefilter(args, out, surface, factor, scaling)
         timing_rows.append({"surface": surface, "factor": factor, "scaling": scaling,
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
@@ -415,15 +416,14 @@ def study(args, out, surface, factor, rows, timing_rows):
             row[model] = c["mean_relative_error"]
             row.setdefault("standard_error", {})[model] = mean_error_standard_error(
                 out, f"{tag}_{model}", f"{surface}_{lighting}_reference")
-        if len(table_seeds(args)) > 1:
+        if len(args.seeds) > 1:
             row["full_over_seeds"] = full_over_seeds(args, out, surface, factor, lighting, reference, row["full"], camera)
         if surface in CURVED:
             row["regions"] = curved_regions(args, out, surface, lighting, reference, images, c["mean_reference"])
         if lighting == "direct" and surface not in CURVED:
             row["tables_spread"] = tables_spread(manifest, prefilter_report, tuple(res))
         row["reference_mean"] = c["mean_reference"]
-        naive, full = abs(row["naive"]), abs(row["full"])
-        row["passed"] = full <= 0.03 and full <= naive / 3 if lighting in GATED_LIGHTING else None
+        row["passed"] = abs(row["full"]) <= gate_bar(row["naive"]) if lighting in GATED_LIGHTING else None
         if lighting == "gi" and args.equal_time > 0:
             # Another seed for the reference of the noise measurement, so that noise does not cancel.
             converged, _ = render(args, out, f"{surface}_gi_converged", height_field("reference", surface, manifest),
@@ -439,32 +439,37 @@ def study(args, out, surface, factor, rows, timing_rows):
               f"full {row['full']:+.2%} ({gate_text(row['passed']).upper()})", flush=True)
 
 
-def table_seeds(args):
-    return [int(seed) for seed in args.table_seeds.split(",")]
+def scaling_for(lighting):
+    """The scaling function a lighting's full model carries: R (Eq. 4.12) for one bounce, R_ir (Eq. 4.20) for all."""
+    return "shadowing" if lighting == "direct" else "interreflection"
+
+
+def gate_bar(naive):
+    """The issue's gate on the full model's relative error of the image mean: at most 3% and at most a
+    third of naive's."""
+    return min(0.03, abs(naive) / 3)
 
 
 def full_over_seeds(args, out, surface, factor, lighting, reference, first_error, camera):
     """The full model's error with its tables made at each of --table-seeds (the first is the row's own):
     how far the tables' draw moves the image mean, measured (seed_summary)."""
     res = [int(v) for v in args.res.split("x")]
-    scaling = "shadowing" if lighting == "direct" else "interreflection"
     errors = [first_error]
-    for seed in table_seeds(args)[1:]:
-        manifest, _ = prefilter(args, out, surface, factor, scaling, seed=seed)
+    for seed in args.seeds[1:]:
+        manifest, _ = prefilter(args, out, surface, factor, scaling_for(lighting), seed=seed)
         name = f"{surface}_{factor}x_{lighting}_full_seed{seed}"
         image, _ = render(args, out, name, height_field("full", surface, manifest), lighting, res, spp=args.spp,
                           camera=camera)
         errors.append(compare(args.build, reference, image)["mean_relative_error"])
-    return {"seeds": table_seeds(args), **seed_summary(errors)}
+    return {"seeds": args.seeds, **seed_summary(errors)}
 
 
 def seed_summary(errors):
     """The errors of one model over its tables' seeds: each, their mean, their sample standard deviation
     (the tables' draw with the renders' noise) and the mean's standard error (that over sqrt(n))."""
-    n = len(errors)
-    mean = sum(errors) / n
-    deviation = math.sqrt(sum((e - mean) ** 2 for e in errors) / (n - 1)) if n > 1 else float("nan")
-    return {"errors": errors, "mean": mean, "deviation": deviation, "standard_error": deviation / math.sqrt(n)}
+    deviation = statistics.stdev(errors) if len(errors) > 1 else float("nan")
+    return {"errors": errors, "mean": statistics.mean(errors), "deviation": deviation,
+            "standard_error": deviation / math.sqrt(len(errors))}
 
 
 def gate_text(passed):
@@ -614,7 +619,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
     lines = ["# Displacement-map prefiltering (issue 23): measured", "",
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
-             (f" --table-seeds {args.table_seeds}" if len(table_seeds(args)) > 1 else "") +
+             (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine." +
              (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
@@ -652,7 +657,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                   " mean within the bar |", "|---|---|---|---|---|---|---|---|---|"]
         for r in seeded:
             f = r["full_over_seeds"]
-            bar = min(abs(r["naive"]) / 3, 0.03)
+            bar = gate_bar(r["naive"])
             lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {bar:.2%} | " +
                          ", ".join(f"{e:+.2%}" for e in f["errors"]) +
                          f" | {f['mean']:+.2%} ± {f['standard_error']:.2%} | {f['deviation']:.2%} | "
@@ -832,10 +837,10 @@ def main():
                              f"(Table 4.3: {CHAPTER_SCALES_TEXT})")
     args = parser.parse_args()
     try:
-        seeds = table_seeds(args)
+        args.seeds = [int(seed) for seed in args.table_seeds.split(",")]
     except ValueError:
-        seeds = [0]
-    if seeds[0] != 1 or len(set(seeds)) != len(seeds) or min(seeds) < 1:
+        args.seeds = [0]
+    if args.seeds[0] != 1 or len(set(args.seeds)) != len(args.seeds) or min(args.seeds) < 1:
         parser.error(f"--table-seeds {args.table_seeds!r}: distinct positive seeds, the first 1 (the run's own tables)")
     if not args.lighting or any(l not in LIGHTING for l in args.lighting.split(",")):
         parser.error(f"--lighting {args.lighting!r}: a comma-separated list of {', '.join(LIGHTING)}")
