@@ -1,4 +1,4 @@
-// Not a benchmark: a measurement (docs/displacement.md §9, "Where the woven map's darkness under the
+// Not a benchmark: a measurement (docs/displacement.md §9, "Where the planes' error under the
 // sun comes from"). A planar map under a sun, seen by a pinhole camera: the image's mean for the
 // original and for each model, from the prefilter's own estimators (Eq. 4.6-4.8) over every coarse
 // cell, each cell seen along its own view and weighed by the pixels it covers (1 / (d^2 cos^3 alpha),
