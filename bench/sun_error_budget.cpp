@@ -158,7 +158,13 @@ void run(const Settings& s) {
     std::fflush(stdout);
   };
   report("naive", image([&](int u, int v, const Vec3& wo) { return light.naive(u, v, wi, wo); }));
-  report("multi-lobe", image([&](int u, int v, const Vec3& wo) { return light.multiLobe(u, v, wi, wo); }));
+  // The multi-lobe model's light per cell (pixels times light), kept for S exact below.
+  std::vector<double> multi_lobe(std::size_t(n) * n);
+  report("multi-lobe", image([&](int u, int v, const Vec3& wo) {
+           const double light_here = light.multiLobe(u, v, wi, wo);
+           multi_lobe[std::size_t(u) + std::size_t(n) * v] = light_here;
+           return light_here;
+         }));
   report("full", scaledBy(full));
   report("full, T = 1", scaledBy(flat_T));
   // S exact per group of views, T = 1.
@@ -167,8 +173,8 @@ void run(const Settings& s) {
   for (int gy = 0; gy < G; ++gy)
     for (int gx = 0; gx < G; ++gx)
       exact[std::size_t(gx + G * gy)] = mapRatio(light, wi, (camera - centre((gx + 0.5) * n / G, (gy + 0.5) * n / G)).normalized());
-  report("S exact per view group, T = 1", image([&](int u, int v, const Vec3& wo) {
-           return light.multiLobe(u, v, wi, wo) * exact[std::size_t(u * G / n + G * (v * G / n))];
+  report("S exact per view group, T = 1", image([&](int u, int v, const Vec3&) {
+           return multi_lobe[std::size_t(u) + std::size_t(n) * v] * exact[std::size_t(u * G / n + G * (v * G / n))];
          }));
   if (s.bins_radius > 0) {
     int count = 0;
