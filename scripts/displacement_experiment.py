@@ -51,7 +51,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi[,sun,sky]]
         [--table-seeds 1[,2,...]] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--periodic-tables none|tiled|all] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--resume] [--no-study]
         [--no-chapter-scales]
 """
@@ -182,11 +182,13 @@ def same_brdf(written, brdf):
 
 
 def reusable(manifest, report, cells, factor, brdf, rates, stretches="", view_horizon=0.0, base_curvature=0.0,
-             relief_radius=0, seed=1):
+             relief_radius=0, seed=1, edges="open"):
     """Whether a manifest of an earlier run prefilters this map (its cells) with these settings."""
     if not (manifest.exists() and report.exists()):
         return False
     m = json.loads(manifest.read_text())
+    if m.get("settings", {}).get("edges", "open") != edges:
+        return False
     if m.get("settings", {}).get("seed", 1) != seed:
         return False
     if abs(m.get("settings", {}).get("base_curvature", 0.0) - base_curvature) > 1e-9:
@@ -230,15 +232,21 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1):
     # docs/displacement.md §6, "The relief term"): past their silhouettes the image sees their cells by
     # their height.
     relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2) if surface in CURVED else 0
+    # With --periodic-tables, the tables of the map as a tile among its copies (docs/displacement.md §6,
+    # "Tables over a periodic tile"): "tiled", those of the surfaces that sections 1-2 see tiled (the ball
+    # and the torus); "all", every surface's, the planes' lone tile too.
+    periodic = args.periodic_tables == "all" or (args.periodic_tables == "tiled" and surface in CURVED)
+    edges = "periodic" if periodic else "open"
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
-                    curvature, relief_radius, seed):
+                    curvature, relief_radius, seed, edges):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
              "--scaling", scaling, "--brdf", json.dumps(brdf or BRDF), "--report", report] + RATES[rates] +
             (["--seed", seed] if seed != 1 else []) +
             (["--stretch", stretches] if stretches else []) +
             (["--view-horizon", view_horizon] if view_horizon else []) +
             (["--base-curvature", curvature] if curvature else []) +
-            (["--relief-radius", relief_radius] if relief_radius else []))
+            (["--relief-radius", relief_radius] if relief_radius else []) +
+            (["--periodic"] if periodic else []))
     return manifest, json.loads(report.read_text())
 
 
@@ -805,6 +813,10 @@ def main():
     parser.add_argument("--curved-view-horizon", type=float, default=88.0,
                         help="the ball's and the torus's S also at views on the horizon, evaluated at this polar "
                              "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
+    parser.add_argument("--periodic-tables", choices=["none", "tiled", "all"], default="none",
+                        help="tables of the map as a tile among its copies (vdb_displacement_prefilter --periodic): "
+                             "none (the chapter's, the map alone), tiled (the ball's and the torus's, which sections "
+                             "1-2 see tiled) or all (the planes' lone tile too); docs/displacement.md §6")
     parser.add_argument("--curved-tables", action=argparse.BooleanOptionalAction, default=True,
                         help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
                              "the torus's outer half's mean curvature; docs/displacement.md §6); --no-curved-tables: "

@@ -31,6 +31,7 @@ constexpr const char* kExamples = R"(Examples:
   vdb_displacement_prefilter bumps.exr bumps_8x.json --size 0.1 --height-scale 0.01 --scaling shadowing
   vdb_displacement_prefilter noise.exr quick.json -f 8 --paths 256 --angular-resolution 9 --pairs 500 -v
   vdb_displacement_prefilter bumps.exr ball_16x.json -f 16 --stretch 0.7,0.45,0.25   # tiles over a sphere
+  vdb_displacement_prefilter twill.exr twill_8x.json -f 8 --periodic   # for a surface tiled by the map
 
 IN is a height map (docs/displacement.md §1): (n + 1)^2 pixels, the heights in its first channel.
 OUT.json is a manifest; OUT.height.exr (h_low), OUT.lobes.exr (six vMF lobes per coarse cell),
@@ -54,6 +55,7 @@ HeightField readHeightMapFor(const Options& o) {
     throw MediumError(fmt::format("{}: the factor {} does not divide the map's {} x {} cells (a map of (n + 1) x "
                                   "(m + 1) pixels has n x m cells; try n a power of two)",
                                   o.input, o.settings.factor, field.cellsX(), field.cellsY()));
+  if (o.settings.edges == TileEdges::Periodic) validateSeamless(field, o.input + " (--periodic)");
   return field;
 }
 
@@ -165,6 +167,7 @@ int prefilter(const Options& o, const std::string& history) {
       {"view_horizon_degrees", f.view_horizon_degrees},
       {"stretches", o.stretches},
       {"base_curvature", settings.base_curvature},
+      {"edges", settings.edges == TileEdges::Periodic ? "periodic" : "open"},
       {"relief_radius", settings.relief_radius},
       {"seed", settings.seed},
       {"seconds", {{"read", read_seconds}, {"height", p.seconds.height}, {"ndfs", p.seconds.ndfs}, {"scaling", p.seconds.scaling}}}};
@@ -280,6 +283,11 @@ int main(int argc, char** argv) {
                  "1 / r), whose bumps shadow and mask less at grazing angles; 0: a plane (docs/displacement.md §6)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_flag_function(
+      "--periodic", [&s](std::int64_t) { s.edges = TileEdges::Periodic; },
+      "make the tables over the map as one tile among its copies, whose rays leave across one edge and come back "
+      "across the opposite one (as vdb_render lays tiles out); the map must tile seamlessly. Default: the map "
+      "alone, its edges open, as the chapter (docs/displacement.md §6, \"Tables over a periodic tile\")");
   app.add_option("--relief-radius", s.relief_radius,
                  "also fit R's relief term, R = T(x) [S + B z(x)] with z how far each of h_low's cells stands "
                  "above the (2 R + 1)^2 cells about it, which R depends on at grazing views (a curved base's "

@@ -53,10 +53,13 @@ class ScalingEstimator {
   // `stretch`: of the tile the estimates are for (surface/tile_stretch.h): both micro-geometries
   // laid out stretched, directions the stretched surface's, and f'_low as the model shades that
   // tile (MultiLobeBrdf::onStretchedTile). Both over a base of s.base_curvature, as the renderer
-  // lays h_low and the original out over a convex surface.
+  // lays h_low and the original out over a convex surface, and with s.edges: alone or as a tile.
   ScalingEstimator(const HeightField& fine, const PrefilteredSurface& low, const MicrofacetBrdf& base,
                    const DisplacementPrefilterSettings& s, const TileStretch& stretch)
-      : original_(fine, stretch, s.base_curvature), prefiltered_(low.height, stretch, s.base_curvature), base_(base), s_(s) {
+      : original_(fine, stretch, s.base_curvature, s.edges),
+        prefiltered_(low.height, stretch, s.base_curvature, s.edges),
+        base_(base),
+        s_(s) {
     for (const VmfMixture& ndf : low.ndfs) f_low_.emplace_back(ndf, base);
     low_scattering_ = lowScattering();
     original_scattering_ = microfacetScattering(base);

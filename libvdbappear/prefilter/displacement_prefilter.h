@@ -12,6 +12,7 @@
 #include "libvdbappear/prefilter/scaling_factorization.h"
 #include "libvdbappear/surface/height_field.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
+#include "libvdbappear/surface/tile_edges.h"
 #include "libvdbappear/surface/tile_stretch.h"
 #include "libvdbappear/surface/vmf_ndf.h"
 
@@ -44,6 +45,10 @@ struct DisplacementPrefilterSettings {
   // base's bumps shadow and mask, and where R_ir's paths bounce, is what R counts (MicroGeometry).
   // 0: a plane, the chapter's. docs/displacement.md §6, "Tables for a curved base".
   double base_curvature = 0;
+  // Open: the tables of the map alone, whose cells along its edges see nothing beyond them (the
+  // chapter's). Periodic: of the map as a tile among its copies, as the renderer lays tiles out
+  // (docs/displacement.md §6, "Tables over a periodic tile").
+  TileEdges edges = TileEdges::Open;
   // With r > 0, S also holds the relief term: R ~ T(x) [S(wi, wo) + B(wi, wo) z(x)], z the relief of
   // h_low's cells over the (2r + 1)^2 cells about them (surface/cell_relief.h), which R depends on at
   // grazing views. 0: the chapter's rank one. docs/displacement.md §6, "The relief term".

@@ -14,8 +14,14 @@
 
 namespace vdbappear {
 
-MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretch, double base_curvature)
-    : field_(field), stretch_(stretch), base_curvature_(base_curvature), scene_(std::make_unique<SurfaceScene>()) {
+MicroGeometry::MicroGeometry(const HeightField& field, const TileStretch& stretch, double base_curvature,
+                             TileEdges edges)
+    : field_(field),
+      stretch_(stretch),
+      base_curvature_(base_curvature),
+      edges_(edges),
+      tile_(Eigen::Vector2d(field.cellsX(), field.cellsY()) * field.cellSize()),
+      scene_(std::make_unique<SurfaceScene>()) {
   if (!(base_curvature_ >= 0) || !std::isfinite(base_curvature_))
     throw std::invalid_argument("MicroGeometry: the base's curvature must be finite and not negative");
   std::vector<Triangle> triangles = heightFieldTriangles(field_, {});
@@ -63,40 +69,87 @@ double MicroGeometry::rayEpsilon() const {
   return 1e-6 * std::max(1.0, stretch * field_.cellSize() * std::max(field_.cellsX(), field_.cellsY()));
 }
 
+double MicroGeometry::tileExit(const Vec3& x, const Eigen::Vector2d& d_map, int& axis) const {
+  const Eigen::Vector2d m = stretch_.inverse() * x.head<2>();  // on the map
+  double nearest = std::numeric_limits<double>::infinity();
+  axis = 0;
+  for (int k = 0; k < 2; ++k)
+    if (d_map[k] != 0) {
+      const double t = ((d_map[k] > 0 ? tile_[k] : 0) - m[k]) / d_map[k];
+      if (t < nearest) nearest = t, axis = k;
+    }
+  return std::max(nearest, 0.0);
+}
+
+template <typename Visit>
+bool MicroGeometry::walkPiece(Vec3& x, const Vec3& d, double t_min, double t_max, Visit&& visit) const {
+  const Eigen::Vector2d d_map = stretch_.inverse() * d.head<2>();
+  for (;;) {
+    int axis = 0;
+    const double exit = edges_ == TileEdges::Periodic ? tileExit(x, d_map, axis) : t_max;
+    if (exit >= t_max) {
+      const bool done = visit(x, d, t_min, t_max);
+      x += t_max * d;
+      return done;
+    }
+    if (exit > t_min && visit(x, d, t_min, exit)) return true;
+    // Across the edge: the same point of the surface on the tile's opposite side.
+    Eigen::Vector2d m = stretch_.inverse() * (x.head<2>() + exit * d.head<2>());
+    m[axis] = d_map[axis] > 0 ? 0 : tile_[axis];
+    const Eigen::Vector2d xy = stretch_.matrix() * m;
+    x = Vec3(xy.x(), xy.y(), x.z() + exit * d.z());
+    t_min = std::max(t_min - exit, 0.0);
+    t_max -= exit;
+  }
+}
+
+double MicroGeometry::longestPeriodicRay() const {
+  return kMostTilesCrossed * std::max(1.0, stretch_.matrix().cwiseAbs().maxCoeff()) * tile_.maxCoeff();
+}
+
+double MicroGeometry::periodicReach(const Vec3& x, const Vec3& w) const {
+  if (w.z() <= 0) return longestPeriodicRay();
+  return std::min(longestPeriodicRay(), std::max(highest_ - x.z(), 0.0) / w.z());  // above the field beyond
+}
+
 bool MicroGeometry::unoccluded(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  if (bendOf(w) > 0) return unoccludedOverCurvedBase(origin, w, eps);
-  return !scene_->occluded(origin, w, eps, 1e30);
+  const auto occluded = [this](const Vec3& a, const Vec3& d, double t0, double t1) {
+    return scene_->occluded(a, d, t0, t1);
+  };
+  if (bendOf(w) > 0) return !followCurvedRay(origin, w, eps, occluded);
+  if (edges_ == TileEdges::Open) return !scene_->occluded(origin, w, eps, 1e30);
+  Vec3 x = origin;
+  return !walkPiece(x, w, eps, std::max(periodicReach(origin, w), eps), occluded);
 }
 
 // The ray origin + t w + z bend t^2, bend = base_curvature |w_xy|^2 / 2, in pieces of length
 // `step` whose chords stray from it by bend step^2 / 4 = chord_sag_ at most, until it rises above
-// the field's highest point or leaves its box: chord(a, b, t_min) for each, until it returns true.
-template <typename Chord>
-void MicroGeometry::followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const {
+// the field's highest point, or leaves its box (an open field), or has gone longestPeriodicRay()
+// (a periodic one): each chord walked through the tile by walkPiece(), until `visit` returns true
+// (then this does).
+template <typename Visit>
+bool MicroGeometry::followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Visit&& visit) const {
   const double bend = bendOf(w);
   const double step = std::sqrt(4 * chord_sag_ / bend);  // the chord over [0, step] strays by bend t (step - t)
+  const double longest = longestPeriodicRay();
   const auto at = [&](double t) { return Vec3(origin + t * w + Vec3(0, 0, bend * t * t)); };
-  const auto outside = [&](const Vec3& x) {
-    return x.z() > highest_ || (x.head<2>().array() < lo_.array()).any() || (x.head<2>().array() > hi_.array()).any();
+  const auto outside = [&](const Vec3& a, double t) {
+    if (a.z() > highest_) return true;
+    if (edges_ == TileEdges::Periodic) return t > longest;
+    return (a.head<2>().array() < lo_.array()).any() || (a.head<2>().array() > hi_.array()).any();
   };
-  Vec3 a = origin;
-  for (double t = 0; !outside(a); t += step) {
-    const Vec3 b = at(t + step);
-    if (chord(a, b, t == 0 ? eps : 0)) return;
+  Vec3 a = origin;  // along the ray as it goes on over the tiles
+  Vec3 x = origin;  // the same point in the tile
+  for (double t = 0; !outside(a, t); t += step) {
+    const Vec3 b = at(t + step), chord = b - a;
+    const double length = chord.norm();
+    if (walkPiece(x, chord / length, t == 0 ? eps : 0, length, visit)) return true;
+    if (edges_ == TileEdges::Open) x = b;  // exactly the ray's point, as in the tile
     a = b;
   }
-}
-
-bool MicroGeometry::unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const {
-  bool blocked = false;
-  followCurvedRay(origin, w, eps, [&](const Vec3& a, const Vec3& b, double t_min) {
-    const Vec3 chord = b - a;
-    const double length = chord.norm();
-    return blocked = scene_->occluded(a, chord / length, t_min, length);
-  });
-  return !blocked;
+  return false;
 }
 
 MicroGeometry::Point MicroGeometry::pointOf(const Vec3& x, const Vec3& normal) const {
@@ -111,19 +164,23 @@ MicroGeometry::Point MicroGeometry::pointOf(const Vec3& x, const Vec3& normal) c
 std::optional<MicroGeometry::Point> MicroGeometry::trace(const Point& p, const Vec3& w) const {
   const double eps = rayEpsilon();
   const Vec3 origin = p.x + eps * p.normal;
-  if (!(bendOf(w) > 0)) {
+  if (edges_ == TileEdges::Open && !(bendOf(w) > 0)) {
     const std::optional<SurfaceHit> hit = scene_->intersect(origin, w, eps, 1e30);
     if (!hit) return std::nullopt;
     return pointOf(origin + hit->t * w, hit->normal);
   }
   std::optional<Point> found;
-  followCurvedRay(origin, w, eps, [&](const Vec3& a, const Vec3& b, double t_min) {
-    const Vec3 chord = b - a;
-    const double length = chord.norm();
-    const std::optional<SurfaceHit> hit = scene_->intersect(a, chord / length, t_min, length);
-    if (hit) found = pointOf(a + hit->t * chord / length, hit->normal);
+  const auto meet = [&](const Vec3& a, const Vec3& d, double t0, double t1) {
+    const std::optional<SurfaceHit> hit = scene_->intersect(a, d, t0, t1);
+    if (hit) found = pointOf(a + hit->t * d, hit->normal);
     return hit.has_value();
-  });
+  };
+  if (bendOf(w) > 0) {
+    followCurvedRay(origin, w, eps, meet);
+  } else {
+    Vec3 x = origin;
+    walkPiece(x, w, eps, std::max(periodicReach(origin, w), eps), meet);
+  }
   return found;
 }
 

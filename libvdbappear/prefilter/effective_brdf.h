@@ -8,6 +8,7 @@
 #include "libvdbappear/math/rgb.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 #include "libvdbappear/surface/height_field.h"
+#include "libvdbappear/surface/tile_edges.h"
 #include "libvdbappear/surface/tile_stretch.h"
 
 #include <cstdint>
@@ -30,9 +31,13 @@ class SurfaceScene;
 // as a sphere of radius 1 / base_curvature does, to second order: seen from a point, the surface at
 // distance d along the base lies d^2 base_curvature / 2 lower. unoccluded() and trace() follow that
 // (what a sphere's bumps shadow and mask, and where a path's next bounce lands).
+//
+// `edges` (surface/tile_edges.h): the map alone, or as one tile of a periodic surface, whose rays
+// leave the tile across one edge and come back across the opposite one.
 class MicroGeometry {
  public:
-  explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {}, double base_curvature = 0);
+  explicit MicroGeometry(const HeightField& field, const TileStretch& stretch = {}, double base_curvature = 0,
+                         TileEdges edges = TileEdges::Open);
   ~MicroGeometry();
   MicroGeometry(const MicroGeometry&) = delete;
   MicroGeometry& operator=(const MicroGeometry&) = delete;
@@ -44,28 +49,43 @@ class MicroGeometry {
   };
   // The surface above base position (u, v), in cell units (0 <= u <= cells x, 0 <= v <= cells y).
   Point at(double u, double v) const;
-  // Whether w leaves the point without meeting the surface again (rays beyond the field escape).
+  // Whether w leaves the point without meeting the surface again (rays beyond an open field escape;
+  // over a periodic one they go on through the tiles until they rise above its highest point).
   // On a curved base the ray rises above the map by (t |w_xy|)^2 base_curvature / 2 at t, followed
   // in straight pieces whose chords stray from it by at most a thousandth of the field's relief.
   bool unoccluded(const Point& p, const Vec3& w) const;
-  // The first point that a ray from p along w meets, if any (none past the field's edges); over a
-  // curved base followed as unoccluded() follows it.
+  // The first point that a ray from p along w meets, if any (none past an open field's edges; over a
+  // periodic one, the point in the tile); over a curved base followed as unoccluded() follows it.
   std::optional<Point> trace(const Point& p, const Vec3& w) const;
   const HeightField& field() const { return field_; }
   const TileStretch& stretch() const { return stretch_; }
+  TileEdges edges() const { return edges_; }
 
  private:
   double rayEpsilon() const;
   Vec3 stretched(const Vec3& on_map) const;
   // How fast a ray along w rises above the map: origin + t w + z bend t^2 (0 on a plane, or straight up).
   double bendOf(const Vec3& w) const { return base_curvature_ * w.head<2>().squaredNorm() / 2; }
-  bool unoccludedOverCurvedBase(const Vec3& origin, const Vec3& w, double eps) const;
-  template <typename Chord>
-  void followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Chord&& chord) const;
+  template <typename Visit>
+  bool followCurvedRay(const Vec3& origin, const Vec3& w, double eps, Visit&& visit) const;
+  // How far a straight ray from x along w goes over a periodic field: until it rises above the
+  // field's highest point, or kMostTilesCrossed tiles (longestPeriodicRay()).
+  double periodicReach(const Vec3& x, const Vec3& w) const;
+  double longestPeriodicRay() const;
+  // The straight piece x + t d, t in [t_min, t_max], d a unit vector, x in the tile: visit(a, d,
+  // t0, t1) for it, or over a periodic field for each part of it within one tile, a that part's
+  // start moved into the tile, until visit returns true (then this does); x is left at the piece's
+  // end, moved into the tile.
+  template <typename Visit>
+  bool walkPiece(Vec3& x, const Vec3& d, double t_min, double t_max, Visit&& visit) const;
+  // How far x travels along d (d_map: d's (x, y) on the map) before it leaves the tile, and across
+  // which edge: axis 0 or 1.
+  double tileExit(const Vec3& x, const Eigen::Vector2d& d_map, int& axis) const;
   Point pointOf(const Vec3& x, const Vec3& normal) const;  // a point of the stretched surface
   HeightField field_;
   TileStretch stretch_;
   double base_curvature_;
+  TileEdges edges_;
   double highest_;  // the field's highest point
   // How far a curved ray's chords may stray from it: a fraction of the field's relief, the same for a
   // map and its h_low whatever their cells (a tenth of a cell, as first, let h_low's rays at 32x
@@ -73,6 +93,10 @@ class MicroGeometry {
   static constexpr double kChordSagOfRelief = 1e-3;
   double chord_sag_;
   Eigen::Vector2d lo_, hi_;  // the box of the surface's (x, y)
+  Eigen::Vector2d tile_;     // the tile's width and depth on the map (world units)
+  // A ray over a periodic field that has not risen above it after this many tiles' widths is taken
+  // to escape: it skims the tops of the tiles (a direction of measure zero, as w.z -> 0).
+  static constexpr double kMostTilesCrossed = 256;
   std::unique_ptr<SurfaceScene> scene_;
 };
 

@@ -2,6 +2,9 @@
 
 #include "libvdbappear/util/error.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -39,6 +42,22 @@ void validateHeights(const HeightField& field, const std::string& source) {
       if (!std::isfinite(field.at(i, j)))
         throw MediumError(source + ": height at vertex (" + std::to_string(i) + ", " + std::to_string(j) +
                           ") is not a finite number");
+}
+
+void validateSeamless(const HeightField& field, const std::string& source, double tolerance) {
+  double lowest = field.heights().front(), highest = lowest;
+  for (double h : field.heights()) lowest = std::min(lowest, h), highest = std::max(highest, h);
+  const double allowed = tolerance * (highest - lowest);
+  const int nx = field.cellsX(), ny = field.cellsY();
+  const auto check = [&](int i, int j, int i_twin, int j_twin) {
+    const double step = std::abs(field.at(i, j) - field.at(i_twin, j_twin));
+    if (step > allowed)
+      throw MediumError(fmt::format("{}: the map does not tile seamlessly: vertex ({}, {}) and its twin on the opposite "
+                                    "edge ({}, {}) differ by {:.4g}, more than {:g}% of the map's relief ({:.4g})",
+                                    source, i, j, i_twin, j_twin, step, tolerance * 100, highest - lowest));
+  };
+  for (int j = 0; j <= ny; ++j) check(0, j, nx, j);
+  for (int i = 0; i <= nx; ++i) check(i, 0, i, ny);
 }
 
 }  // namespace vdbappear

@@ -48,4 +48,9 @@ class HeightField {
 // Throws MediumError naming `source` and the vertex (i, j) when a height is NaN or infinite.
 void validateHeights(const HeightField& field, const std::string& source);
 
+// Throws MediumError naming `source` and the vertex when the map does not tile seamlessly: a vertex
+// on one edge and its twin on the opposite edge differ by more than `tolerance` times the map's
+// relief (its highest height less its lowest).
+void validateSeamless(const HeightField& field, const std::string& source, double tolerance = 1e-3);
+
 }  // namespace vdbappear

@@ -137,7 +137,11 @@ TEST(DisplacementCli, MapPrefilteredAndRenderedThroughTheTools) {
   // is refused, naming the level, and writes nothing.
   std::string quick_at_8 = kQuick;
   quick_at_8.replace(quick_at_8.find("-f 4"), 4, "-f 8");
-  ASSERT_EQ(runCommand(kPrefilter + " " + quote(map) + " " + quote(dir.path("eight.json")) + quick_at_8 + brdf).status, 0);
+  // The coarser level's tables made over the map as a tile among its copies (the map tiles
+  // seamlessly), which the manifest records.
+  ASSERT_EQ(runCommand(kPrefilter + " " + quote(map) + " " + quote(dir.path("eight.json")) + quick_at_8 + brdf + " --periodic").status, 0);
+  EXPECT_EQ(nlohmann::json::parse(contents(dir.path("eight.json")))["settings"]["edges"], "periodic");
+  EXPECT_EQ(manifest["settings"]["edges"], "open");
   std::ofstream(dir.path("mipmap.json")) << R"({"resolution": [24, 16], "spp": 4,
     "camera": {"position": [0.5, -1.5, 1.2], "target": [0.5, 0.5, 0], "up": [0, 0, 1], "fov": 40},
     "lights": [{"type": "sun", "direction": [0.3, 0.4, -1], "strength": 2}],
@@ -174,6 +178,13 @@ TEST(DisplacementCli, BadInputIsRefusedAndWritesNothing) {
   writeExr(nan_map, dir.path("nan.exr"));
   expectRefused(dir, kPrefilter + " " + quote(dir.path("nan.exr")) + " " + out + kQuick, "nan.exr");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + " -f 8", "the factor 8 does not divide the map's 30 x 30 cells");
+  // --periodic on a map whose opposite edges differ, named with the vertex (the image's row 5 from
+  // the top is the map's vertex row 25 of 30).
+  ImageChannels stepped = readImageChannels(map);
+  stepped.values[5 * stepped.width] += 1.0f;
+  writeExr(stepped, dir.path("stepped.exr"));
+  expectRefused(dir, kPrefilter + " " + quote(dir.path("stepped.exr")) + " " + out + " -f 5 --periodic",
+                "stepped.exr (--periodic): the map does not tile seamlessly: vertex (0, 25)");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + R"( --brdf '{"roughness": -0.1}')", "roughness");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + R"( --brdf '{"colour": 1}')", "colour");
   expectRefused(dir, kPrefilter + " " + quote(map) + " " + out + kQuick + R"( --brdf '{"roughness": 0.1')", "--brdf: not a JSON object");

@@ -48,7 +48,7 @@ class PrefilterSeed(unittest.TestCase):
         experiment.run = self.fake_run
         self.args = types.SimpleNamespace(build="build", rates="n15", ball_stretches="", curved_view_horizon=88.0,
                                           curved_tables=True, relief_radius=2, cells=64, ball_cells=64, torus_cells=64,
-                                          ball_scale_cells=64)
+                                          ball_scale_cells=64, periodic_tables="none")
 
     def tearDown(self):
         experiment.run = self.saved_run
@@ -60,7 +60,8 @@ class PrefilterSeed(unittest.TestCase):
         self.commands.append(cmd)
         seed = int(cmd[cmd.index("--seed") + 1]) if "--seed" in cmd else 1
         factor = int(cmd[cmd.index("--factor") + 1])
-        settings = {"seed": seed, "history": " ".join(cmd), "table_sampling": experiment.TABLE_SAMPLING}
+        settings = {"seed": seed, "history": " ".join(cmd), "table_sampling": experiment.TABLE_SAMPLING,
+                    "edges": "periodic" if "--periodic" in cmd else "open"}
         pathlib.Path(cmd[2]).write_text(json.dumps({"factor": factor, "cells": [64 // factor], "settings": settings,
                                                     "brdf": experiment.BRDF}))
         pathlib.Path(cmd[cmd.index("--report") + 1]).write_text(json.dumps({"settings": settings}))
@@ -87,6 +88,21 @@ class PrefilterSeed(unittest.TestCase):
         (self.out / "noise_8x_shadowing_seed2.report.json").rename(self.out / "noise_8x_shadowing_seed4.report.json")
         experiment.prefilter(self.args, self.out, "noise", 8, "shadowing", seed=4)
         self.assertEqual(len(self.commands), 2)
+
+    def test_periodic_tables_where_asked_and_not_reused_across_edges(self):
+        """--periodic-tables: "tiled" asks the curved surfaces' tables over a periodic tile and not the
+        planes'; a manifest of the other edges is made again."""
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing")
+        self.args.periodic_tables = "tiled"
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing")  # reused: a plane stays open
+        experiment.prefilter(self.args, self.out, "torus", 8, "shadowing")
+        self.assertEqual(len(self.commands), 2)
+        self.assertNotIn("--periodic", self.commands[0])
+        self.assertIn("--periodic", self.commands[1])
+        self.args.periodic_tables = "all"
+        experiment.prefilter(self.args, self.out, "noise", 8, "shadowing")  # open before: made again
+        self.assertEqual(len(self.commands), 3)
+        self.assertIn("--periodic", self.commands[2])
 
 
 if __name__ == "__main__":

@@ -36,4 +36,31 @@ inline HeightField sinusoidHeightField(int cells, double cell_size, const std::v
   return field;
 }
 
+// The same over a map that tiles seamlessly: each wave of period about P cells turned to the
+// nearest whole numbers of cycles (a, b) across the map (not both 0), so opposite edges match.
+inline HeightField periodicHeightField(int cells, double cell_size, const std::vector<double>& periods,
+                                       double amplitude_per_period, std::uint64_t seed) {
+  TestRandom random(seed);
+  struct Wave {
+    int a, b;
+    double phase, amplitude;
+  };
+  std::vector<Wave> waves;
+  for (double period : periods) {
+    const double angle = 2 * kPi * random.uniform(), cycles = cells / period;
+    Wave w{int(std::lround(cycles * std::cos(angle))), int(std::lround(cycles * std::sin(angle))), 2 * kPi * random.uniform(),
+           amplitude_per_period * period};
+    if (w.a == 0 && w.b == 0) w.a = 1;
+    waves.push_back(w);
+  }
+  HeightField field(cells, cells, cell_size);
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      double h = 0;
+      for (const Wave& w : waves) h += w.amplitude * std::sin(2 * kPi * double(w.a * i + w.b * j) / cells + w.phase);
+      field.at(i, j) = h;
+    }
+  return field;
+}
+
 }  // namespace vdbappear::test
