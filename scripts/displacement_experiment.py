@@ -628,6 +628,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
              (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
+             (f" --periodic-tables {args.periodic_tables}" if args.periodic_tables != "none" else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine." +
              (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
@@ -636,7 +637,11 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
                                    f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4),"
-                                   " not the chapter's."), "",
+                                   " not the chapter's.") +
+             {"none": "", "tiled": " The ball's and the torus's tables over a periodic tile (--periodic), the planes'"
+                                   " over the map alone.",
+              "all": " Every table over a periodic tile (--periodic), the planes' lone tile's too."}[args.periodic_tables],
+             "",
              "## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
              f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
