@@ -83,10 +83,15 @@ double MicroGeometry::tileExit(const Vec3& x, const Eigen::Vector2d& d_map, int&
 
 template <typename Visit>
 bool MicroGeometry::walkPiece(Vec3& x, const Vec3& d, double t_min, double t_max, Visit&& visit) const {
+  if (edges_ == TileEdges::Open) {
+    const bool done = visit(x, d, t_min, t_max);
+    x += t_max * d;
+    return done;
+  }
   const Eigen::Vector2d d_map = stretch_.inverse() * d.head<2>();
   for (;;) {
     int axis = 0;
-    const double exit = edges_ == TileEdges::Periodic ? tileExit(x, d_map, axis) : t_max;
+    const double exit = tileExit(x, d_map, axis);
     if (exit >= t_max) {
       const bool done = visit(x, d, t_min, t_max);
       x += t_max * d;
