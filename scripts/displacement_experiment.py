@@ -212,10 +212,18 @@ def map_cells(args, surface):
     return {"ball": args.ball_cells, "torus": args.torus_cells, "ball_scale": args.ball_scale_cells}.get(surface, args.cells)
 
 
-def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1):
+def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1, tiled=None):
     """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report;
     `seed`: vdb_displacement_prefilter's (the NDFs' EM, the tables' positions and paths), other than 1 named in
-    the files."""
+    the files; `tiled`: whether the images that read them show the map tiled (by default the curved surfaces'
+    sections 1-2; sections 4-5 tile the planes too)."""
+    # With --periodic-tables, the tables of the map as a tile among its copies (docs/displacement.md §6,
+    # "Tables over a periodic tile"): "tiled", those that tiled images read; "all", every one, the planes'
+    # lone tile's too. A plane's periodic tables are named apart from its lone tile's, which sections 1-2 read.
+    tiled = surface in CURVED if tiled is None else tiled
+    periodic = args.periodic_tables == "all" or (args.periodic_tables == "tiled" and tiled)
+    edges = "periodic" if periodic else "open"
+    tag += "_periodic" if periodic and surface not in CURVED else ""
     tag += "" if seed == 1 else f"_seed{seed}"
     manifest = out / f"{surface}_{factor}x_{scaling}{tag}.json"
     report = out / f"{surface}_{factor}x_{scaling}{tag}.report.json"
@@ -232,11 +240,6 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1):
     # docs/displacement.md §6, "The relief term"): past their silhouettes the image sees their cells by
     # their height.
     relief_radius = min(args.relief_radius, (map_cells(args, surface) // factor - 1) // 2) if surface in CURVED else 0
-    # With --periodic-tables, the tables of the map as a tile among its copies (docs/displacement.md §6,
-    # "Tables over a periodic tile"): "tiled", those of the surfaces that sections 1-2 see tiled (the ball
-    # and the torus); "all", every surface's, the planes' lone tile too.
-    periodic = args.periodic_tables == "all" or (args.periodic_tables == "tiled" and surface in CURVED)
-    edges = "periodic" if periodic else "open"
     if not reusable(manifest, report, map_cells(args, surface), factor, brdf or BRDF, rates, stretches, view_horizon,
                     curvature, relief_radius, seed, edges):
         run([tool(build, "vdb_displacement_prefilter"), out / f"{surface}.exr", manifest, "--factor", factor,
@@ -513,8 +516,10 @@ def peak_memory_mb(out, name):
 def level_of_detail(args, out, surface, lod_rows):
     """Section 4: the mipmap against the original at equal render time, over a grazing tiled view."""
     res = [int(v) for v in args.res.split("x")]
-    # The R_ir models of sections 1-2 (made here when --no-study left them out; reused otherwise).
-    levels = [prefilter(args, out, surface, int(f), "interreflection")[0].name for f in args.factors.split(",")]
+    # The R_ir models of sections 1-2 (made here when --no-study left them out; reused otherwise), or with
+    # --periodic-tables tiled their own over a periodic tile: this view shows the map tiled.
+    levels = [prefilter(args, out, surface, int(f), "interreflection", tiled=True)[0].name
+              for f in args.factors.split(",")]
     fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
               "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
@@ -559,7 +564,7 @@ def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_r
     fields = {"original": {"file": f"{surface}.exr", "brdf": GLOSSY, **placement}}
     for factor in [int(f) for f in args.factors.split(",")]:
         manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
-                                               tag="_glossy")
+                                               tag="_glossy", tiled=True)
         timing_rows.append({"surface": f"{surface} (glossy)", "factor": factor, "scaling": "interreflection",
                             "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
                             "ranges": prefilter_report["scaling"]})
@@ -638,8 +643,9 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                                    "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
                                    f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4),"
                                    " not the chapter's.") +
-             {"none": "", "tiled": " The ball's and the torus's tables over a periodic tile (--periodic), the planes'"
-                                   " over the map alone.",
+             {"none": "", "tiled": " The tables of the images that show the map tiled over a periodic tile"
+                                   " (--periodic): the ball's and the torus's, and sections 4-5's; the planes' of"
+                                   " sections 1-2 over the map alone.",
               "all": " Every table over a periodic tile (--periodic), the planes' lone tile's too."}[args.periodic_tables],
              "",
              "## Mean intensity against the full-resolution reference", "",
@@ -820,8 +826,9 @@ def main():
                              "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
     parser.add_argument("--periodic-tables", choices=["none", "tiled", "all"], default="none",
                         help="tables of the map as a tile among its copies (vdb_displacement_prefilter --periodic): "
-                             "none (the chapter's, the map alone), tiled (the ball's and the torus's, which sections "
-                             "1-2 see tiled) or all (the planes' lone tile too); docs/displacement.md §6")
+                             "none (the chapter's, the map alone), tiled (those of the images that show the map "
+                             "tiled: the ball's and the torus's, and sections 4-5's of the planes) or all (the "
+                             "planes' lone tile too); docs/displacement.md §6")
     parser.add_argument("--curved-tables", action=argparse.BooleanOptionalAction, default=True,
                         help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
                              "the torus's outer half's mean curvature; docs/displacement.md §6); --no-curved-tables: "

@@ -104,6 +104,24 @@ class PrefilterSeed(unittest.TestCase):
         self.assertEqual(len(self.commands), 3)
         self.assertIn("--periodic", self.commands[2])
 
+    def test_tiled_views_of_a_plane_read_periodic_tables_of_their_own(self):
+        """Under "tiled", a plane's tiled views (sections 4-5) ask tables over a periodic tile, named apart
+        from the lone tile's of sections 1-2, which stay open and are reused."""
+        self.args.periodic_tables = "tiled"
+        lone, _ = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection")
+        tiled, _ = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tiled=True)
+        glossy, _ = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tag="_glossy", tiled=True)
+        self.assertEqual([lone.name, tiled.name, glossy.name], ["woven_8x_interreflection.json",
+                                                                "woven_8x_interreflection_periodic.json",
+                                                                "woven_8x_interreflection_glossy_periodic.json"])
+        self.assertEqual(["--periodic" in c for c in self.commands], [False, True, True])
+        experiment.prefilter(self.args, self.out, "woven", 8, "interreflection")  # the lone tile's: reused
+        self.assertEqual(len(self.commands), 3)
+        # Negative control: with no periodic tables asked, the tiled views read the lone tile's.
+        self.args.periodic_tables = "none"
+        again, _ = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tiled=True)
+        self.assertEqual((again.name, len(self.commands)), ("woven_8x_interreflection.json", 3))
+
 
 if __name__ == "__main__":
     unittest.main()
