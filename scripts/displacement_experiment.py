@@ -216,7 +216,7 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1, ti
     """The manifest of this map at this factor (made unless an earlier run's is reusable) and its report;
     `seed`: vdb_displacement_prefilter's (the NDFs' EM, the tables' positions and paths), other than 1 named in
     the files; `tiled`: whether the images that read them show the map tiled (by default the curved surfaces'
-    sections 1-2; sections 4-5 tile the planes too)."""
+    sections 1-2; sections 4-5 tile every map)."""
     # With --periodic-tables, the tables of the map as a tile among its copies (docs/displacement.md §6,
     # "Tables over a periodic tile"): "tiled", those that tiled images read; "all", every one, the planes'
     # lone tile's too. A plane's periodic tables are named apart from its lone tile's, which sections 1-2 read.
@@ -827,7 +827,7 @@ def main():
     parser.add_argument("--periodic-tables", choices=["none", "tiled", "all"], default="none",
                         help="tables of the map as a tile among its copies (vdb_displacement_prefilter --periodic): "
                              "none (the chapter's, the map alone), tiled (those of the images that show the map "
-                             "tiled: the ball's and the torus's, and sections 4-5's of the planes) or all (the "
+                             "tiled: the ball's and the torus's, and sections 4-5's) or all (the "
                              "planes' lone tile too); docs/displacement.md §6")
     parser.add_argument("--curved-tables", action=argparse.BooleanOptionalAction, default=True,
                         help="the ball's and the torus's tables over a base as convex as theirs (the ball's 1 / radius, "
