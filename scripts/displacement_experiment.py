@@ -51,7 +51,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi[,sun,sky]]
         [--table-seeds 1[,2,...]] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--no-curved-tables] [--periodic-tables none|tiled|all] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--planar-view-horizon 0] [--no-curved-tables] [--periodic-tables none|tiled|all] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--resume] [--no-study]
         [--no-chapter-scales]
 """
@@ -232,7 +232,8 @@ def prefilter(args, out, surface, factor, scaling, brdf=None, tag="", seed=1, ti
     stretches = args.ball_stretches if surface == "ball" else ""
     # And on curved bases S up to the view's horizon, which their rims show (docs/displacement.md §6,
     # "The view's horizon").
-    view_horizon = args.curved_view_horizon if surface in CURVED else 0.0
+    # On the planes with --planar-view-horizon (their level-of-detail view grazes them).
+    view_horizon = args.curved_view_horizon if surface in CURVED else args.planar_view_horizon
     # With --curved-tables, their tables over a base as convex as theirs (docs/displacement.md §6,
     # "Tables for a curved base").
     curvature = CURVED[surface]["curvature"] if args.curved_tables and surface in CURVED else 0.0
@@ -824,6 +825,10 @@ def main():
     parser.add_argument("--curved-view-horizon", type=float, default=88.0,
                         help="the ball's and the torus's S also at views on the horizon, evaluated at this polar "
                              "angle (degrees; docs/displacement.md §6, §9); 0: S clamped beyond its outermost bins")
+    parser.add_argument("--planar-view-horizon", type=float, default=0.0,
+                        help="the planar maps' S also at views on the horizon, evaluated at this polar angle "
+                             "(degrees; as --curved-view-horizon; section 4's view grazes them beyond S's outermost "
+                             "bins); 0: S clamped there, the chapter's")
     parser.add_argument("--periodic-tables", choices=["none", "tiled", "all"], default="none",
                         help="tables of the map as a tile among its copies (vdb_displacement_prefilter --periodic): "
                              "none (the chapter's, the map alone), tiled (those of the images that show the map "

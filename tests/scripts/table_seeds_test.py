@@ -47,6 +47,7 @@ class PrefilterSeed(unittest.TestCase):
         self.saved_run = experiment.run
         experiment.run = self.fake_run
         self.args = types.SimpleNamespace(build="build", rates="n15", ball_stretches="", curved_view_horizon=88.0,
+                                          planar_view_horizon=0.0,
                                           curved_tables=True, relief_radius=2, cells=64, ball_cells=64, torus_cells=64,
                                           ball_scale_cells=64, periodic_tables="none")
 
@@ -61,7 +62,8 @@ class PrefilterSeed(unittest.TestCase):
         seed = int(cmd[cmd.index("--seed") + 1]) if "--seed" in cmd else 1
         factor = int(cmd[cmd.index("--factor") + 1])
         settings = {"seed": seed, "history": " ".join(cmd), "table_sampling": experiment.TABLE_SAMPLING,
-                    "edges": "periodic" if "--periodic" in cmd else "open"}
+                    "edges": "periodic" if "--periodic" in cmd else "open",
+                    "view_horizon_degrees": float(cmd[cmd.index("--view-horizon") + 1]) if "--view-horizon" in cmd else 0.0}
         pathlib.Path(cmd[2]).write_text(json.dumps({"factor": factor, "cells": [64 // factor], "settings": settings,
                                                     "brdf": experiment.BRDF}))
         pathlib.Path(cmd[cmd.index("--report") + 1]).write_text(json.dumps({"settings": settings}))
@@ -121,6 +123,21 @@ class PrefilterSeed(unittest.TestCase):
         self.args.periodic_tables = "none"
         again, _ = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tiled=True)
         self.assertEqual((again.name, len(self.commands)), ("woven_8x_interreflection.json", 3))
+
+    def test_planar_view_horizon_only_where_asked_and_not_reused_across_it(self):
+        """--planar-view-horizon gives the planes' S its nodes on the view's horizon (the tool's --view-horizon);
+        the curved surfaces keep --curved-view-horizon's; a plane's manifest without the nodes is made again."""
+        experiment.prefilter(self.args, self.out, "woven", 8, "interreflection")
+        self.assertNotIn("--view-horizon", self.commands[0])  # the default: S clamped on the planes
+        self.args.planar_view_horizon = 88.0
+        experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tiled=True)
+        self.assertEqual(len(self.commands), 2)
+        self.assertEqual(self.commands[1][self.commands[1].index("--view-horizon") + 1], "88.0")
+        experiment.prefilter(self.args, self.out, "woven", 8, "interreflection")  # reused: the same nodes
+        self.assertEqual(len(self.commands), 2)
+        self.args.curved_view_horizon = 85.0
+        experiment.prefilter(self.args, self.out, "torus", 8, "shadowing")
+        self.assertEqual(self.commands[2][self.commands[2].index("--view-horizon") + 1], "85.0")
 
 
 if __name__ == "__main__":
