@@ -64,6 +64,7 @@ import statistics
 import time
 
 import resumable
+import plane_view_bands
 import sphere_regions
 import table_draw
 import torus_regions
@@ -526,12 +527,37 @@ def level_of_detail(args, out, surface, lod_rows):
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
     reference, _ = render(args, out, f"{surface}_lod_reference", fields["original"], "gi", res,
                           spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
+    masks = plane_view_bands.region_masks(out, f"{surface}_lod", LOD_CAMERA, LOD_TILES, s_bins(args.rates), *res)
     for spp in [int(v) for v in args.lod_spp.split(",")]:
         seconds, results = equal_time(args, out, f"{surface}_lod", fields, reference, spp, LOD_CAMERA)
-        row = {"surface": surface, "spp": spp, "seconds": seconds, **results}
+        row = {"surface": surface, "spp": spp, "seconds": seconds, **results,
+               "bands": lod_bands(args, out, f"{surface}_lod", fields, spp, reference, masks)}
         lod_rows.append(row)
         print(f"{surface} level of detail, {row['seconds']:.2f} s: RMSE original {row['original']['rmse']:.4f},"
               f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
+
+
+def s_bins(rates):
+    """S's bins per axis at these rates (--angular-resolution; the tool's default, the chapter's, 15)."""
+    flags = RATES[rates]
+    return int(flags[flags.index("--angular-resolution") + 1]) if "--angular-resolution" in flags else 15
+
+
+def lod_bands(args, out, tag, fields, spp, reference, masks):
+    """The level-of-detail view's error by how steeply it sees the plane (plane_view_bands.py; the last band
+    beyond S's outermost bins): per band its pixels, its share of the reference's light and each field's
+    mean error there."""
+    bands = []
+    for name, mask, pixels in masks[:-1]:  # the last: off the tiles
+        if pixels == 0:
+            continue
+        band = {"band": name, "pixels": pixels}
+        for model in fields:
+            c = compare(args.build, reference, out / f"{tag}_{model}_{spp}.exr", mask=mask)
+            band[model] = c["mean_relative_error"]
+            band["reference_mean"] = c["mean_reference"]
+        bands.append(band)
+    return bands
 
 
 def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
@@ -736,6 +762,18 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
                      f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
                      f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
+    if any("bands" in r for r in lod_rows):
+        lines += ["", "The mean error by how steeply the view meets the plane (theta_o from its normal; "
+                  "scripts/plane_view_bands.py); the far band reads S beyond its outermost bins (clamped"
+                  f"{'' if not args.planar_view_horizon else f', or here its horizon nodes at {args.planar_view_horizon:g} degrees'}):", "",
+                  "| surface | spp | band | pixels | share of the tiles' light | original | mipmap | models |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for r in (r for r in lod_rows if "bands" in r):
+            total = sum(b["reference_mean"] * b["pixels"] for b in r["bands"])
+            for b in r["bands"]:
+                share = b["reference_mean"] * b["pixels"] / total if total > 0 else float("nan")
+                lines.append(f"| {r['surface']} | {r['spp']} | {b['band']} | {b['pixels']} | {share:.1%} |"
+                             f" {b['original']:+.2%} | {b['mipmap']:+.2%} | {b['models']:+.2%} |")
     if scale_rows:
         models = list(scale_rows[0]["models"])
         lines += ["", f"## Equal time at the chapter's scale (Table 4.5): a glossy base over {args.scale_tiles} x "
