@@ -407,15 +407,24 @@ def study_factors(args, surface):
     return sorted(factors)
 
 
+def report_tables(args, timing_rows, label, factor, scaling, manifest, prefilter_report):
+    """The report's row of a model's precomputation (Table 4.3-4.4), once per set of tables: sections 4-5
+    add one only for tables of their own (periodic ones, or with --no-study)."""
+    if manifest.name in args.reported_tables:
+        return
+    args.reported_tables.add(manifest.name)
+    timing_rows.append({"surface": label, "factor": factor, "scaling": scaling, "tables": manifest.name,
+                        "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
+                        "ranges": prefilter_report["scaling"]})
+
+
 def study(args, out, surface, factor, rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
     camera = CURVED[surface]["camera"] if surface in CURVED else CAMERA
     for lighting in args.lighting.split(","):
         scaling = scaling_for(lighting)
         manifest, prefilter_report = prefilter(args, out, surface, factor, scaling)
-        timing_rows.append({"surface": surface, "factor": factor, "scaling": scaling,
-                            "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
-                            "ranges": prefilter_report["scaling"]})
+        report_tables(args, timing_rows, surface, factor, scaling, manifest, prefilter_report)
         tag = f"{surface}_{factor}x_{lighting}"
         reference, _ = render(args, out, f"{surface}_{lighting}_reference",
                               height_field("reference", surface, manifest), lighting, res, spp=args.spp_ref,
@@ -515,13 +524,17 @@ def peak_memory_mb(out, name):
     return float("nan")
 
 
-def level_of_detail(args, out, surface, lod_rows):
+def level_of_detail(args, out, surface, lod_rows, timing_rows):
     """Section 4: the mipmap against the original at equal render time, over a grazing tiled view."""
     res = [int(v) for v in args.res.split("x")]
     # The R_ir models of sections 1-2 (made here when --no-study left them out; reused otherwise), or with
     # --periodic-tables tiled their own over a periodic tile: this view shows the map tiled.
-    levels = [prefilter(args, out, surface, int(f), "interreflection", tiled=True)[0].name
-              for f in args.factors.split(",")]
+    levels = []
+    for factor in [int(f) for f in args.factors.split(",")]:
+        manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", tiled=True)
+        report_tables(args, timing_rows, f"{surface} (level of detail)", factor, "interreflection", manifest,
+                      prefilter_report)
+        levels.append(manifest.name)
     fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
               "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
@@ -592,9 +605,7 @@ def equal_time_at_scale(args, out, surface, tag, placement, camera, res, scale_r
     for factor in [int(f) for f in args.factors.split(",")]:
         manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", brdf=GLOSSY,
                                                tag="_glossy", tiled=True)
-        timing_rows.append({"surface": f"{surface} (glossy)", "factor": factor, "scaling": "interreflection",
-                            "seconds": prefilter_report["settings"]["seconds"], "bytes": prefilter_report["bytes"],
-                            "ranges": prefilter_report["scaling"]})
+        report_tables(args, timing_rows, f"{surface} (glossy)", factor, "interreflection", manifest, prefilter_report)
         fields[f"{factor}x"] = {"prefiltered": manifest.name, "scaling": True, **placement}
     reference, _ = render(args, out, f"{tag}_reference", fields["original"], "gi", res,
                           spp=args.scale_spp_ref, seed=7, reuse=args.rendered, camera=camera)
@@ -920,7 +931,7 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     start = time.time()
-    args.rendered, args.resumed = set(), []
+    args.rendered, args.resumed, args.reported_tables = set(), [], set()
     rows, timing_rows, lod_rows, scale_rows = [], [], [], []
     for surface in args.surfaces.split(","):
         make_map(args, map_kind(surface), map_cells(args, surface), out / f"{surface}.exr")
@@ -930,7 +941,7 @@ def main():
             study(args, out, surface, factor, rows, timing_rows)
         if surface not in CURVED:  # sections 4-5 view tiles on a plane, where they are instances
             if args.lod_spp:
-                level_of_detail(args, out, surface, lod_rows)
+                level_of_detail(args, out, surface, lod_rows, timing_rows)
             if args.scale_tiles > 0:
                 chapter_scale(args, out, surface, scale_rows, timing_rows)
         elif surface == "ball" and args.scale_tiles > 0 and args.ball_scale_cells > 0:

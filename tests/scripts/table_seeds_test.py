@@ -66,7 +66,8 @@ class PrefilterSeed(unittest.TestCase):
                     "view_horizon_degrees": float(cmd[cmd.index("--view-horizon") + 1]) if "--view-horizon" in cmd else 0.0}
         pathlib.Path(cmd[2]).write_text(json.dumps({"factor": factor, "cells": [64 // factor], "settings": settings,
                                                     "brdf": experiment.BRDF}))
-        pathlib.Path(cmd[cmd.index("--report") + 1]).write_text(json.dumps({"settings": settings}))
+        pathlib.Path(cmd[cmd.index("--report") + 1]).write_text(json.dumps({"settings": {**settings, "seconds": {}},
+                                                                             "bytes": {}, "scaling": {}}))
         return ""
 
     def test_seed_in_flags_and_names(self):
@@ -138,6 +139,21 @@ class PrefilterSeed(unittest.TestCase):
         self.args.curved_view_horizon = 85.0
         experiment.prefilter(self.args, self.out, "torus", 8, "shadowing")
         self.assertEqual(self.commands[2][self.commands[2].index("--view-horizon") + 1], "85.0")
+
+    def test_each_set_of_tables_reported_once(self):
+        """report_tables: one precomputation row per manifest, whichever sections read it; sections 4-5's
+        periodic tables get rows of their own."""
+        self.args.reported_tables, rows = set(), []
+        lone, report = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection")
+        experiment.report_tables(self.args, rows, "woven", 8, "interreflection", lone, report)
+        experiment.report_tables(self.args, rows, "woven (level of detail)", 8, "interreflection", lone, report)
+        self.assertEqual([r["surface"] for r in rows], ["woven"])
+        self.args.periodic_tables = "tiled"
+        tiled, report = experiment.prefilter(self.args, self.out, "woven", 8, "interreflection", tiled=True)
+        experiment.report_tables(self.args, rows, "woven (level of detail)", 8, "interreflection", tiled, report)
+        self.assertEqual([(r["surface"], r["tables"]) for r in rows],
+                         [("woven", "woven_8x_interreflection.json"),
+                          ("woven (level of detail)", "woven_8x_interreflection_periodic.json")])
 
 
 if __name__ == "__main__":
