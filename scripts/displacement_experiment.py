@@ -34,8 +34,10 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
    global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
    R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
-   the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), and
-   peak memory (/usr/bin/time -v).
+   the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), the
+   mean error also by how steeply the view meets the tiles (plane_view_bands.py: near, middle, and
+   beyond S's outermost bins, where --planar-view-horizon gives S its horizon nodes), and peak memory
+   (/usr/bin/time -v).
 5. Equal time where the chapter measures it (Table 4.5; the planar surfaces): a glossy base BRDF
    (GLOSSY) over --scale-tiles^2 tiles seen from afar, so that a pixel covers some 85 original cells
    of a 1K^2 map (2.7 coarse cells at 32x) and the original's highlights alias: its R_ir models at --factors,
