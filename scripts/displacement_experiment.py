@@ -65,8 +65,8 @@ import pathlib
 import statistics
 import time
 
-import resumable
 import plane_view_bands
+import resumable
 import sphere_regions
 import table_draw
 import torus_regions
