@@ -531,7 +531,7 @@ def level_of_detail(args, out, surface, lod_rows, timing_rows):
     res = [int(v) for v in args.res.split("x")]
     # The R_ir models of sections 1-2 (made here when --no-study left them out; reused otherwise), or with
     # --periodic-tables tiled their own over a periodic tile: this view shows the map tiled.
-    levels = []
+    levels, manifest = [], None
     for factor in [int(f) for f in args.factors.split(",")]:
         manifest, prefilter_report = prefilter(args, out, surface, factor, "interreflection", tiled=True)
         report_tables(args, timing_rows, f"{surface} (level of detail)", factor, "interreflection", manifest,
@@ -542,7 +542,8 @@ def level_of_detail(args, out, surface, lod_rows, timing_rows):
               "models": {"mipmap": levels, "tiles": LOD_TILES}}
     reference, _ = render(args, out, f"{surface}_lod_reference", fields["original"], "gi", res,
                           spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
-    masks = plane_view_bands.region_masks(out, f"{surface}_lod", LOD_CAMERA, LOD_TILES, s_bins(args.rates), *res)
+    n = json.loads(manifest.read_text())["angular_resolution"]  # S's N, the same at every level (one --rates)
+    masks = plane_view_bands.region_masks(out, f"{surface}_lod", LOD_CAMERA, LOD_TILES, n, *res)
     for spp in [int(v) for v in args.lod_spp.split(",")]:
         seconds, results = equal_time(args, out, f"{surface}_lod", fields, reference, spp, LOD_CAMERA)
         row = {"surface": surface, "spp": spp, "seconds": seconds, **results,
@@ -552,16 +553,10 @@ def level_of_detail(args, out, surface, lod_rows, timing_rows):
               f" mipmap {row['mipmap']['rmse']:.4f}, models alone {row['models']['rmse']:.4f}", flush=True)
 
 
-def s_bins(rates):
-    """S's bins per axis at these rates (--angular-resolution; the tool's default, the chapter's, 15)."""
-    flags = RATES[rates]
-    return int(flags[flags.index("--angular-resolution") + 1]) if "--angular-resolution" in flags else 15
-
-
 def lod_bands(args, out, tag, fields, spp, reference, masks):
     """The level-of-detail view's error by how steeply it sees the plane (plane_view_bands.py; the last band
-    beyond S's outermost bins): per band its pixels, its share of the reference's light and each field's
-    mean error there."""
+    beyond S's outermost bins): per band its pixels, its share of the reference's light on the tiles and
+    each field's mean error there."""
     bands = []
     for name, mask, pixels in masks[:-1]:  # the last: off the tiles
         if pixels == 0:
@@ -570,8 +565,11 @@ def lod_bands(args, out, tag, fields, spp, reference, masks):
         for model in fields:
             c = compare(args.build, reference, out / f"{tag}_{model}_{spp}.exr", mask=mask)
             band[model] = c["mean_relative_error"]
-            band["reference_mean"] = c["mean_reference"]
+        band["light"] = c["mean_reference"] * pixels  # the reference's, the same in every compare
         bands.append(band)
+    tiles_light = sum(b["light"] for b in bands)
+    for b in bands:
+        b["share"] = b.pop("light") / tiles_light if tiles_light > 0 else float("nan")
     return bands
 
 
@@ -674,6 +672,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
              (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
              (f" --periodic-tables {args.periodic_tables}" if args.periodic_tables != "none" else "") +
+             (f" --planar-view-horizon {args.planar_view_horizon:g}" if args.planar_view_horizon else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine." +
              (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
@@ -782,10 +781,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                   "| surface | spp | band | pixels | share of the tiles' light | original | mipmap | models |",
                   "|---|---|---|---|---|---|---|---|"]
         for r in (r for r in lod_rows if "bands" in r):
-            total = sum(b["reference_mean"] * b["pixels"] for b in r["bands"])
             for b in r["bands"]:
-                share = b["reference_mean"] * b["pixels"] / total if total > 0 else float("nan")
-                lines.append(f"| {r['surface']} | {r['spp']} | {b['band']} | {b['pixels']} | {share:.1%} |"
+                lines.append(f"| {r['surface']} | {r['spp']} | {b['band']} | {b['pixels']} | {b['share']:.1%} |"
                              f" {b['original']:+.2%} | {b['mipmap']:+.2%} | {b['models']:+.2%} |")
     if scale_rows:
         models = list(scale_rows[0]["models"])

@@ -26,20 +26,22 @@ def bands(n):
 MISS = "off the tiles (the sky)"
 
 
-def _region(origin, d, tiles, n):
-    """The index of the band a ray from `origin` along d falls in (len(bands) if it misses the tiles)."""
+def _region(origin, d, tiles, view_bands):
+    """The index in view_bands (bands()) of the band a ray from `origin` along d falls in, len(view_bands)
+    if it misses the tiles."""
     if d[2] >= 0:
-        return len(bands(n))
+        return len(view_bands)
     t = -origin[2] / d[2]
     x, y = origin[0] + t * d[0], origin[1] + t * d[1]
     if not (0 <= x <= tiles[0] and 0 <= y <= tiles[1]):
-        return len(bands(n))
+        return len(view_bands)
     theta = math.degrees(math.acos(-d[2]))
-    return next(k for k, (_, low, high) in enumerate(bands(n)) if low <= theta < high)
+    return next(k for k, (_, low, high) in enumerate(view_bands) if low <= theta < high)
 
 
 def region_masks(out, tag, camera, tiles, n, width, height):
     """Writes out/{tag}_region{k}.pfm for each band and the miss; returns [(name, path, pixel count)]."""
-    names = [b[0] for b in bands(n)] + [MISS]
+    view_bands = bands(n)
+    names = [b[0] for b in view_bands] + [MISS]
     return pinhole_pixels.region_masks(out, tag, camera, [0, 0, 0], names, width, height,
-                                       lambda origin, d: _region(origin, d, tiles, n))
+                                       lambda origin, d: _region(origin, d, tiles, view_bands))

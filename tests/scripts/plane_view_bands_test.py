@@ -42,17 +42,17 @@ class OutermostBins(unittest.TestCase):
 class Region(unittest.TestCase):
     def test_each_band_by_its_angle(self):
         o = CAMERA["position"]
-        self.assertEqual(bands._region(o, ray_at(60), [4, 4], 15), 0)
-        self.assertEqual(bands._region(o, ray_at(80), [4, 4], 15), 1)
-        self.assertEqual(bands._region(o, ray_at(85), [4, 4], 15), 2)
-        self.assertEqual(bands._region(o, ray_at(80), [4, 4], 9), 2)  # beyond N = 9's 77.9 degrees
+        self.assertEqual(bands._region(o, ray_at(60), [4, 4], bands.bands(15)), 0)
+        self.assertEqual(bands._region(o, ray_at(80), [4, 4], bands.bands(15)), 1)
+        self.assertEqual(bands._region(o, ray_at(85), [4, 4], bands.bands(15)), 2)
+        self.assertEqual(bands._region(o, ray_at(80), [4, 4], bands.bands(9)), 2)  # beyond N = 9's 77.9 degrees
 
     def test_rays_off_the_tiles_miss(self):
         """Negative controls: a ray that meets the plane past the tiles, one beside them, one upward."""
         o = CAMERA["position"]
-        self.assertEqual(bands._region(o, ray_at(89), [4, 4], 15), 3)  # meets the plane at y = 12.6
-        self.assertEqual(bands._region(o, ray_at(60, x=5.0), [4, 4], 15), 3)
-        self.assertEqual(bands._region(o, [0.0, 0.6, 0.8], [4, 4], 15), 3)
+        self.assertEqual(bands._region(o, ray_at(89), [4, 4], bands.bands(15)), 3)  # meets the plane at y = 12.6
+        self.assertEqual(bands._region(o, ray_at(60, x=5.0), [4, 4], bands.bands(15)), 3)
+        self.assertEqual(bands._region(o, [0.0, 0.6, 0.8], [4, 4], bands.bands(15)), 3)
 
     def test_masks_count_every_pixel_once(self):
         with tempfile.TemporaryDirectory() as d:
