@@ -33,7 +33,8 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
    so that a pixel covers from 1.7 to 43 original cells of a 512^2 map (twice as many at 1K^2), under
    global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
-   R_ir models of --factors (each path on the level its pixel's footprint picks) and the mipmap of
+   R_ir models of --factors (each path on the level its pixel's footprint picks: by its width across
+   the view, or with --lod-footprint area by the square root of its area) and the mipmap of
    the models alone; RMSE and mean error against the original at --lod-spp-ref (another seed), the
    mean error also by how steeply the view meets the tiles (plane_view_bands.py: near, middle, and
    beyond S's outermost bins, where --planar-view-horizon gives S its horizon nodes), and peak memory
@@ -53,7 +54,7 @@ Usage: scripts/displacement_experiment.py [--build build] [--out displacement-ou
         [--factors 8,32] [--surfaces woven,noise,relief,ball,torus] [--rates n15|quick|spread|chapter] [--lighting direct,gi[,sun,sky]]
         [--table-seeds 1[,2,...]] [--spp-ref 1024]
         [--spp 128] [--equal-time 10] [--res 192x144] [--lod-spp 16,64,256] [--lod-spp-ref 2048]
-        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--planar-view-horizon 0] [--no-curved-tables] [--periodic-tables none|tiled|all] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
+        [--ball-cells 1024] [--ball-stretches 0.75,0.5,0.3] [--curved-view-horizon 88] [--planar-view-horizon 0] [--lod-footprint narrow|area] [--no-curved-tables] [--periodic-tables none|tiled|all] [--relief-radius 2] [--torus-cells 128] [--scale-tiles 16] [--scale-spp 16,64] [--scale-spp-ref 2048]
         [--ball-scale-cells 512] [--ball-scale-tiles 8,52] [--ball-scale-res 128x96] [--resume] [--no-study]
         [--no-chapter-scales]
 """
@@ -116,6 +117,8 @@ GATED_LIGHTING = ("direct", "gi")  # the issue's two lightings
 # 512 per tile) at the bottom row to 43 at the far edge, above which is sky.
 LOD_CAMERA = {"position": [2.0, -0.05, 0.22], "target": [2.0, 1.2, 0.0], "up": [0, 0, 1], "fov": 40}
 LOD_TILES = [4, 4]
+# Which width of a pixel's footprint picks the mipmap's levels (vdb_render's "footprint"), as the report says it.
+LOD_FOOTPRINT = {"narrow": "its width across the view", "area": "the square root of its area"}
 # Section 5: a glossy base, like the chapter's twill and silk, whose highlights alias when a pixel
 # covers many cells; seen as CAMERA sees one tile, scaled to the tiles.
 GLOSSY = {"distribution": "ggx", "roughness": 0.15, "specular": 0.6, "diffuse": [0.15, 0.1, 0.05]}
@@ -538,8 +541,8 @@ def level_of_detail(args, out, surface, lod_rows, timing_rows):
                       prefilter_report)
         levels.append(manifest.name)
     fields = {"original": {"file": f"{surface}.exr", "brdf": BRDF, "tiles": LOD_TILES},
-              "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES},
-              "models": {"mipmap": levels, "tiles": LOD_TILES}}
+              "mipmap": {"file": f"{surface}.exr", "mipmap": levels, "tiles": LOD_TILES, "footprint": args.lod_footprint},
+              "models": {"mipmap": levels, "tiles": LOD_TILES, "footprint": args.lod_footprint}}
     reference, _ = render(args, out, f"{surface}_lod_reference", fields["original"], "gi", res,
                           spp=args.lod_spp_ref, seed=7, reuse=args.rendered, camera=LOD_CAMERA)
     n = json.loads(manifest.read_text())["angular_resolution"]  # S's N, the same at every level (one --rates)
@@ -673,6 +676,7 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
              (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
              (f" --periodic-tables {args.periodic_tables}" if args.periodic_tables != "none" else "") +
              (f" --planar-view-horizon {args.planar_view_horizon:g}" if args.planar_view_horizon else "") +
+             (f" --lod-footprint {args.lod_footprint}" if args.lod_footprint != "narrow" else "") +
              f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
              f" {seconds / 60:.1f} min in all on this machine." +
              (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
@@ -765,7 +769,8 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
               f"Global illumination; a pixel covers {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} original "
               f"cells; RMSE and mean relative error "
               f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
-              f"models at {args.factors}x as levels; `models`: those models alone. Peak memory of vdb_render "
+              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
+              f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "
               "(/usr/bin/time -v).", "",
               "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
               " mipmap, models | peak MB: original, mipmap, models |", "|---|---|---|---|---|---|---|"]
@@ -877,6 +882,10 @@ def main():
                         help="the planar maps' S also at views on the horizon, evaluated at this polar angle "
                              "(degrees; as --curved-view-horizon; section 4's view grazes them beyond S's outermost "
                              "bins); 0: S clamped there, the chapter's")
+    parser.add_argument("--lod-footprint", choices=sorted(LOD_FOOTPRINT), default="narrow",
+                        help="section 4: which width of a pixel's footprint picks the mipmap's levels (the scene's "
+                             "\"footprint\"; docs/displacement.md §8): narrow (across the view) or area (the square "
+                             "root of its area, coarser toward the horizon)")
     parser.add_argument("--periodic-tables", choices=["none", "tiled", "all"], default="none",
                         help="tables of the map as a tile among its copies (vdb_displacement_prefilter --periodic): "
                              "none (the chapter's, the map alone), tiled (those of the images that show the map "

@@ -70,7 +70,8 @@ std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& r
   if (mipmap.curved) {
     const std::optional<BaseHit> hit = mipmap.curved(ray);
     if (!hit || !(hit->cos_theta > 1e-12) || !(hit->cell > 0)) return std::nullopt;
-    return Footprint{hit->t, hit->t * ray.spread / std::sqrt(hit->cos_theta) / hit->cell};
+    const double across = hit->t * ray.spread / hit->cell;
+    return Footprint{hit->t, across, across / std::sqrt(hit->cos_theta)};
   }
   const double cos_theta = std::abs(ray.d.z());
   if (!(cos_theta > 1e-12)) return std::nullopt;
@@ -79,9 +80,9 @@ std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& r
   const Vec3 p = ray(t);
   const double x = p.x() - mipmap.origin.x(), y = p.y() - mipmap.origin.y();
   if (x < 0 || y < 0 || x > mipmap.width_x || y > mipmap.width_y) return std::nullopt;
-  // The pixel's solid angle spread^2 covers t^2 spread^2 / cos(theta) of the plane.
-  const double width = t * ray.spread / std::sqrt(cos_theta);
-  return Footprint{t, width / mipmap.cell};
+  // The pixel's solid angle spread^2 covers t spread across by t spread / cos(theta) along the view.
+  const double across = t * ray.spread / mipmap.cell;
+  return Footprint{t, across, across / std::sqrt(cos_theta)};
 }
 
 int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& ray, RandomStream& rng) {
@@ -97,7 +98,7 @@ int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& ray, Rando
     for (const MipmapFootprint& mipmap : mipmaps) coarsest = std::max(coarsest, mipmap.factors.size());
     return int(coarsest) - 1;
   }
-  const LevelBlend blend = blendForFootprint(nearest->factors, at.cells);
+  const LevelBlend blend = blendForFootprint(nearest->factors, at.cells(nearest->width));
   if (blend.lower == blend.upper || !(blend.weight > 0)) return blend.lower;
   return rng.uniform() < blend.weight ? blend.upper : blend.lower;
 }

@@ -29,6 +29,14 @@ struct BaseHit {
 };
 using BaseIntersector = std::function<std::optional<BaseHit>(const Ray&)>;
 
+// Which width of a pixel's footprint picks the levels. The footprint of a ray that meets the base at
+// theta from its normal is t spread across and t spread / cos(theta) along the view: `narrow` takes
+// the width across, so that no level's cells are wider than the pixel in either direction (the
+// pixel's samples cover its length, as anisotropic texture filtering's probes do); `area` takes the
+// square root of its area, t spread / sqrt(cos(theta)), which picks coarser levels toward the
+// horizon (docs/displacement.md §8-9).
+enum class FootprintWidth { narrow, area };
+
 // A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy, or on a curved
 // base.
 struct MipmapFootprint {
@@ -37,6 +45,7 @@ struct MipmapFootprint {
   double cell = 1;                  // world width of one cell of the original map
   std::vector<double> factors;      // of levels 0, 1, ...: increasing, 1 for the original map
   BaseIntersector curved;           // set: the tiles lie on it (origin, widths and cell unused)
+  FootprintWidth width = FootprintWidth::narrow;  // which width picks the levels
 };
 
 // The bases of surface/sphere_shell.h and surface/mesh_shell.h for an original map of cells_x x
@@ -57,15 +66,17 @@ struct LevelBlend {
 // coarsest.
 LevelBlend blendForFootprint(const std::vector<double>& factors, double footprint_cells);
 
-// The width (sqrt of the area) of a camera ray's pixel footprint where it meets the mipmap's base
-// plane inside its tiles (or its curved base), in original cells, and the distance t there; nothing
-// if it misses.
+// A camera ray's pixel footprint where it meets the mipmap's base plane inside its tiles (or its
+// curved base): the distance t there, and the footprint's widths in original cells, across the view
+// (t spread) and as the square root of its area (t spread / sqrt(cos theta)); nothing if it misses.
 struct Footprint {
-  double t = 0, cells = 0;
+  double t = 0, narrow_cells = 0, area_cells = 0;
+  double cells(FootprintWidth width) const { return width == FootprintWidth::narrow ? narrow_cells : area_cells; }
 };
 std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& camera_ray);
 
-// The level of a path from its camera ray: by the nearest mipmap the ray meets, drawing one uniform
+// The level of a path from its camera ray: by the nearest mipmap the ray meets (its footprint's width
+// as that mipmap's `width` says), drawing one uniform
 // number only where two levels blend (so that scenes and pixels without a blend keep their random
 // streams). A ray without spread (not from a camera) gets level 0, one that meets no mipmap the
 // coarsest of any (what it reaches after a bounce is far or blurred).

@@ -145,7 +145,7 @@ namespace {
 
 HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, const std::string& source,
                                      const std::string& where) {
-  checkKeys(h, {"file", "prefiltered", "mipmap", "scaling", "size", "origin", "sphere", "mesh", "vertices_per_cell",
+  checkKeys(h, {"file", "prefiltered", "mipmap", "footprint", "scaling", "size", "origin", "sphere", "mesh", "vertices_per_cell",
                 "height_scale", "tiles", "albedo", "brdf"},
             source, where);
   HeightFieldDescription field;
@@ -178,6 +178,13 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
       if (!h["file"].is_string()) fail(source, where + ".file", "expected the path of the original map");
       field.file = resolve(folder, h["file"].get<std::string>());
     }
+    if (h.contains("footprint")) {
+      const json& f = h["footprint"];
+      if (f != "narrow" && f != "area") fail(source, where + ".footprint", "expected \"narrow\" or \"area\"");
+      field.footprint = f == "narrow" ? FootprintWidth::narrow : FootprintWidth::area;
+    }
+  } else if (h.contains("footprint")) {
+    fail(source, where + ".footprint", "only with \"mipmap\"");
   } else if (h.contains("prefiltered")) {
     if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
     for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
@@ -627,7 +634,7 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   const PrefilteredSurfaceFile& first = levels.front();
   const HeightFieldPlacement& placement = field.placement;
   MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
-                            first.info.size / fine_cells, {}, {}};
+                            first.info.size / fine_cells, {}, {}, field.footprint};
   const int fine_cells_y = first.surface.height.cellsY() * first.info.factor;
   const CurvedBase base = curvedBaseOf(field, first.info.size);
   if (base.sphere) footprint.curved = sphereBase(*base.sphere, fine_cells, fine_cells_y);

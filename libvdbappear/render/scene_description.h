@@ -14,6 +14,7 @@
 #include "libvdbappear/lightgrid/polygon_light.h"
 #include "libvdbappear/medium/interpolation.h"
 #include "libvdbappear/render/camera.h"
+#include "libvdbappear/render/level_of_detail.h"
 #include "libvdbappear/render/render_image.h"
 #include "libvdbappear/subsurface/translucent_object.h"
 #include "libvdbappear/surface/height_field_mesh.h"
@@ -59,7 +60,8 @@ struct GroundDescription {
 // "scaling"}: a mipmap of prefiltered maps of one original, factors increasing, with the original
 // (optional "file", its size, height scale and BRDF from the manifests) as its finest level; each
 // path is traced on the level its camera ray's pixel footprint picks (§4.7.2;
-// render/level_of_detail.h).
+// render/level_of_detail.h): by its width across the view ("footprint": "narrow", the default) or
+// by the square root of its area ("area").
 // "sphere": [x, y, z] (with "file", "prefiltered" or "mipmap", not "origin"): the tiles shell-mapped
 // over a sphere centred there on which tiles[0] tiles span the equator, tiles[1] pole to pole
 // (surface/sphere_shell.h; the ball of Fig. 4.18).
@@ -75,6 +77,7 @@ struct HeightFieldDescription {
   std::string prefiltered;  // the manifest, instead of file
   std::vector<std::string> mipmap;  // manifests, instead of prefiltered; file: the original as level 0
   bool scaling = true;      // prefiltered: f_low = T S f'_low, or f'_low alone
+  FootprintWidth footprint = FootprintWidth::narrow;  // mipmap: which width of a pixel's footprint picks the levels
   double size = 1;
   HeightFieldPlacement placement;
   Rgb albedo = Rgb::Constant(0.5);

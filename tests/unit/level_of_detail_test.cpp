@@ -38,8 +38,9 @@ TEST(LevelOfDetail, BlendBracketsTheFootprintInLogFactor) {
   EXPECT_EQ(single.upper, 0);
 }
 
-// The footprint's width is the square root of the area that the pixel's four corner rays cut out of
-// the plane, for a camera looking down obliquely, in the middle and at a corner of the image.
+// The footprint's area width is the square root of the area that the pixel's four corner rays cut
+// out of the plane, for a camera looking down obliquely, in the middle and at a corner of the image;
+// its narrow width is sqrt(cos theta) of that.
 TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
   const int width = 400, height = 300;
   const PinholeCamera camera({Vec3(0.3, -3, 2), Vec3(0, 0, 0), Vec3(0, 0, 1), 40}, width, height);
@@ -54,11 +55,35 @@ TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
     const double area = 0.5 * std::abs((c - a).x() * (d - b).y() - (c - a).y() * (d - b).x());  // quad by its diagonals
     const std::optional<Footprint> f = footprintOn(mipmap, camera.ray(x, y));
     ASSERT_TRUE(f) << x << " " << y;
-    EXPECT_NEAR(f->cells * mipmap.cell, std::sqrt(area), 2e-3 * std::sqrt(area)) << x << " " << y;
+    EXPECT_NEAR(f->area_cells * mipmap.cell, std::sqrt(area), 2e-3 * std::sqrt(area)) << x << " " << y;
+    const Ray r = camera.ray(x, y);
+    EXPECT_NEAR(f->narrow_cells, f->area_cells * std::sqrt(std::abs(r.d.z()) / r.d.norm()), 1e-9 * f->area_cells);
   }
   mipmap.width_x = 0.1;  // the tiles end before the ray meets the plane: no footprint
   EXPECT_FALSE(footprintOn(mipmap, camera.ray(20.5, 280.5)));
   EXPECT_FALSE(footprintOn(mipmap, Ray{Vec3(0, 0, 1), Vec3(0, 0, 1), 1e-3}));  // away from the plane
+}
+
+// The narrow width is the pixel's width across the view: for the pixel at the centre of a camera
+// that looks down a plane's y axis, the mean length of the two edges its corner rays cut out across
+// it, a quarter of the length they cut out along it (the view meets the plane 14 degrees above it).
+TEST(LevelOfDetail, NarrowFootprintIsThePixelsWidthAcrossTheView) {
+  const int width = 400, height = 300;
+  const PinholeCamera camera({Vec3(0, -4, 1), Vec3(0, 0, 0), Vec3(0, 0, 1), 40}, width, height);
+  const MipmapFootprint mipmap{Vec3(-50, -50, 0), 100, 100, 0.01, {1, 8}};
+  const auto onPlane = [&](double x, double y) {
+    const Ray r = camera.ray(x, y);
+    return Vec3(r(-r.o.z() / r.d.z()));
+  };
+  const Vec3 a = onPlane(199.5, 149.5), b = onPlane(200.5, 149.5), c = onPlane(200.5, 150.5), d = onPlane(199.5, 150.5);
+  const double across = 0.5 * ((b - a).norm() + (c - d).norm()), along = 0.5 * ((d - a).norm() + (c - b).norm());
+  const std::optional<Footprint> f = footprintOn(mipmap, camera.ray(200, 150));
+  ASSERT_TRUE(f);
+  EXPECT_NEAR(f->narrow_cells * mipmap.cell, across, 2e-3 * across);
+  EXPECT_NEAR(f->area_cells * mipmap.cell, std::sqrt(across * along), 2e-3 * std::sqrt(across * along));
+  EXPECT_NEAR(along / across, std::sqrt(17.0), 0.01);  // 1 / cos theta: the ray's slope is 1 in 4
+  EXPECT_EQ(f->cells(FootprintWidth::narrow), f->narrow_cells);
+  EXPECT_EQ(f->cells(FootprintWidth::area), f->area_cells);
 }
 
 // Over a sphere (16 x 8 tiles of 32 x 32 cells on the unit sphere) a cell is 2 pi / 512 wide at the
@@ -78,7 +103,8 @@ TEST(LevelOfDetail, FootprintOnASphereAndAMesh) {
     const std::optional<Footprint> f = footprintOn(*m, head_on);
     ASSERT_TRUE(f);
     EXPECT_NEAR(f->t, 3, 1e-3);
-    EXPECT_NEAR(f->cells, 3 * spread / equator_cell, 0.01 * 3 * spread / equator_cell);
+    EXPECT_NEAR(f->area_cells, 3 * spread / equator_cell, 0.01 * 3 * spread / equator_cell);
+    EXPECT_NEAR(f->narrow_cells, f->area_cells, 1e-3 * f->area_cells);
   }
   // Toward latitude 60 degrees, 30 degrees off its normal.
   const double latitude = kPi / 3;
@@ -90,7 +116,8 @@ TEST(LevelOfDetail, FootprintOnASphereAndAMesh) {
     const std::optional<Footprint> f = footprintOn(*m, oblique);
     ASSERT_TRUE(f);
     EXPECT_NEAR(f->t, 2, 2e-3);
-    EXPECT_NEAR(f->cells, expected, 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
+    EXPECT_NEAR(f->area_cells, expected, 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
+    EXPECT_NEAR(f->narrow_cells, expected * std::sqrt(std::cos(kPi / 6)), 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
   }
   const Ray away{Vec3(0, -4, 0.5), Vec3(0, -1, 0), spread};
   EXPECT_FALSE(footprintOn(on_sphere, away));
@@ -118,6 +145,24 @@ TEST(LevelOfDetail, PathLevelsFollowTheBlendWeight) {
   EXPECT_EQ(pathLevel(mipmaps, {Vec3(5, 5, 1), Vec3(0, 0, -1), 0.08}, a), 2);   // misses the map: the coarsest
   EXPECT_EQ(pathLevel(mipmaps, {Vec3(0, 0, 1), Vec3(0, 0, -1), 0.0}, a), 0);    // not a camera ray
   EXPECT_EQ(a.uniform(), b.uniform());
+}
+
+// Toward the horizon the narrow width keeps the finer level that the area width leaves: a ray at
+// cos theta = 1/400 whose footprint is 0.9 cells across (the original alone) is 18 cells by its area
+// (the coarsest level alone).
+TEST(LevelOfDetail, NarrowFootprintKeepsFinerLevelsTowardTheHorizon) {
+  std::vector<MipmapFootprint> mipmaps{{Vec3(-10, -10, 0), 20, 20, 0.01, {1, 4, 16}}};
+  const Vec3 d(std::sqrt(1 - 1.0 / 160000), 0, -1.0 / 400);
+  const Ray grazing{Vec3(0, 0, 0) - 2 * d, d, 0.0045};  // t = 2: 0.009 across
+  const std::optional<Footprint> f = footprintOn(mipmaps[0], grazing);
+  ASSERT_TRUE(f);
+  EXPECT_NEAR(f->narrow_cells, 0.9, 1e-9);
+  EXPECT_NEAR(f->area_cells, 18, 1e-9);
+  RandomStream a(3, {1}), b(3, {1});
+  EXPECT_EQ(pathLevel(mipmaps, grazing, a), 0);
+  mipmaps[0].width = FootprintWidth::area;
+  EXPECT_EQ(pathLevel(mipmaps, grazing, a), 2);
+  EXPECT_EQ(a.uniform(), b.uniform());  // neither blends, so neither draws
 }
 
 std::vector<Triangle> square(double z) {

@@ -811,7 +811,7 @@ TEST(Surfaces, MipmapBlendsTwoLevelsByTheFootprint) {
     for (int x = 0; x < 8; ++x) {
       const std::optional<Footprint> f = footprintOn(footprint, camera.ray(x + 0.5, y + 0.5));
       ASSERT_TRUE(f) << x << " " << y;
-      const double w = blendForFootprint(footprint.factors, f->cells).weight;
+      const double w = blendForFootprint(footprint.factors, f->cells(footprint.width)).weight;
       EXPECT_NEAR(w, std::log(1.5) / std::log(4.0), 0.02) << x << " " << y;
       for (std::size_t i = std::size_t(3 * (y * 8 + x)), c = 0; c < 3; ++c) {
         expected += ((1 - w) * original.result.mean[i + c] + w * coarse.result.mean[i + c]) / n;
@@ -884,6 +884,27 @@ TEST(SceneFile, MipmapKeys) {
   EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"brdf", {{"kind", "ggx"}}}}).find("height_fields[0].brdf: not with \"mipmap\""),
             std::string::npos);
   EXPECT_NE(refusal({{"mipmap", {"a.json"}}, {"prefiltered", "b.json"}}).find("height_fields[0].prefiltered"), std::string::npos);
+}
+
+// "footprint" picks which width of a pixel's footprint chooses a mipmap's levels: the width across
+// the view by default.
+TEST(SceneFile, MipmapFootprintKey) {
+  const auto width = [](const json& field, FootprintWidth expected) {
+    return heightFieldRefusal(field, [&](const HeightFieldDescription& h) { EXPECT_EQ(h.footprint, expected); });
+  };
+  EXPECT_EQ(width({{"mipmap", {"a.json"}}}, FootprintWidth::narrow), "accepted");
+  EXPECT_EQ(width({{"mipmap", {"a.json"}}, {"footprint", "narrow"}}, FootprintWidth::narrow), "accepted");
+  EXPECT_EQ(width({{"mipmap", {"a.json"}}, {"footprint", "area"}}, FootprintWidth::area), "accepted");
+  EXPECT_NE(width({{"mipmap", {"a.json"}}, {"footprint", "major"}}, FootprintWidth::narrow)
+                .find("height_fields[0].footprint: expected \"narrow\" or \"area\""),
+            std::string::npos);
+  EXPECT_NE(width({{"mipmap", {"a.json"}}, {"footprint", 2}}, FootprintWidth::narrow).find("height_fields[0].footprint"),
+            std::string::npos);
+  EXPECT_NE(width({{"prefiltered", "a.json"}, {"footprint", "area"}}, FootprintWidth::narrow)
+                .find("height_fields[0].footprint: only with \"mipmap\""),
+            std::string::npos);
+  EXPECT_NE(width({{"file", "a.exr"}, {"footprint", "area"}}, FootprintWidth::narrow).find("height_fields[0].footprint"),
+            std::string::npos);
 }
 
 TEST(SceneFile, SphereKeys) {
