@@ -31,10 +31,10 @@ using BaseIntersector = std::function<std::optional<BaseHit>(const Ray&)>;
 
 // Which width of a pixel's footprint picks the levels. The footprint of a ray that meets the base at
 // theta from its normal is t spread across and t spread / cos(theta) along the view: `narrow` takes
-// the width across, so that no level's cells are wider than the pixel in either direction (the
-// pixel's samples cover its length, as anisotropic texture filtering's probes do); `area` takes the
-// square root of its area, t spread / sqrt(cos(theta)), which picks coarser levels toward the
-// horizon (docs/displacement.md §8-9).
+// the width across, the pixel's finest extent, so that a grazing view does not get the coarse levels
+// that its length along the view would pick (the pixel's samples cover its length, as anisotropic
+// texture filtering's probes do); `area` takes the square root of its area, t spread /
+// sqrt(cos(theta)), coarser toward the horizon (docs/displacement.md §8-9).
 enum class FootprintWidth { narrow, area };
 
 // A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy, or on a curved
