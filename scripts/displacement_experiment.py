@@ -668,30 +668,34 @@ def table_error(ranges):
     return "n/a" if not q else f"{q['median']:.1%} / {q['p90']:.1%} / {q['p99']:.1%}"
 
 
-def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
-    splits = light_split(rows)
-    lines = ["# Displacement-map prefiltering (issue 23): measured", "",
-             f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
-             f" --lighting {args.lighting} --surfaces {args.surfaces}" + (" --no-chapter-scales" if args.no_chapter_scales else "") +
-             (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
-             (f" --periodic-tables {args.periodic_tables}" if args.periodic_tables != "none" else "") +
-             (f" --planar-view-horizon {args.planar_view_horizon:g}" if args.planar_view_horizon else "") +
-             (f" --lod-footprint {args.lod_footprint}" if args.lod_footprint != "narrow" else "") +
-             f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,"
-             f" {seconds / 60:.1f} min in all on this machine." +
-             (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
-              " the same files, and were not run again (report.json's \"resumed\"); the tables an earlier run made"
-              " with the same settings are reused always." if args.resumed else ""), "",
-             "Sampling rates: " + ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 "
-                                   "positions per S bin, N = 15, M = 4)." if args.rates == "chapter" else
-                                   f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4),"
-                                   " not the chapter's.") +
-             {"none": "", "tiled": " The tables of the images that show the map tiled over a periodic tile"
-                                   " (--periodic): the ball's and the torus's, and sections 4-5's; the planes' of"
-                                   " sections 1-2 over the map alone.",
-              "all": " Every table over a periodic tile (--periodic), the planes' lone tile's too."}[args.periodic_tables],
-             "",
-             "## Mean intensity against the full-resolution reference", "",
+def report_header(args, seconds):
+    """The report's title, the command line that reproduces it, and the tables' sampling rates."""
+    command = (f"`scripts/displacement_experiment.py --cells {args.cells} --factors {args.factors} --rates {args.rates}"
+               f" --lighting {args.lighting} --surfaces {args.surfaces}" +
+               (" --no-chapter-scales" if args.no_chapter_scales else "") +
+               (f" --table-seeds {args.table_seeds}" if len(args.seeds) > 1 else "") +
+               (f" --periodic-tables {args.periodic_tables}" if args.periodic_tables != "none" else "") +
+               (f" --planar-view-horizon {args.planar_view_horizon:g}" if args.planar_view_horizon else "") +
+               (f" --lod-footprint {args.lod_footprint}" if args.lod_footprint != "narrow" else "") +
+               f" --spp-ref {args.spp_ref} --spp {args.spp} --equal-time {args.equal_time} --res {args.res}`,")
+    resumed = (f" With --resume, {len(args.resumed)} maps and renders were an earlier run's, of the same commands from"
+               " the same files, and were not run again (report.json's \"resumed\"); the tables an earlier run made"
+               " with the same settings are reused always." if args.resumed else "")
+    rates = ("the chapter's (§4.7.1: 2500 paths per estimate, 5000 pairs per T bin, 16 positions per S bin, N = 15, "
+             "M = 4)." if args.rates == "chapter" else
+             f"{args.rates} (" + " ".join(RATES[args.rates]) + "; M = 4), not the chapter's.")
+    periodic = {"none": "", "tiled": " The tables of the images that show the map tiled over a periodic tile"
+                                     " (--periodic): the ball's and the torus's, and sections 4-5's; the planes' of"
+                                     " sections 1-2 over the map alone.",
+                "all": " Every table over a periodic tile (--periodic), the planes' lone tile's too."}[args.periodic_tables]
+    return ["# Displacement-map prefiltering (issue 23): measured", "",
+            command + f" {seconds / 60:.1f} min in all on this machine." + resumed, "",
+            "Sampling rates: " + rates + periodic, ""]
+
+
+def report_mean_intensity(rows):
+    """Sections 1-2: each model's error of the image mean, and the issue's gate."""
+    lines = ["## Mean intensity against the full-resolution reference", "",
              "Relative error of the image mean; the gate: |full| <= 3% and <= |naive| / 3. \"The chapter's\": the "
              f"surface's scale in Table 4.3 ({CHAPTER_SCALES_TEXT}; the woven map as the twill, the ball and the "
              "torus as the bump). After each error, ± one standard error from the renders' own noise (the model's "
@@ -707,104 +711,142 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         draw = r.get("tables_spread")
         lines.append(f"| {r['surface']} | {r['factor']}x{chapter} | {r['lighting']} | {errors} |"
                      f" {'n/a' if draw is None else f'± {draw:.2%}'} | {gate_text(r['passed'])} |")
+    return lines
+
+
+def report_seeds(args, rows):
+    """The full model over its tables' seeds (--table-seeds), beside the gate's bar."""
     seeded = [r for r in rows if "full_over_seeds" in r]
-    if seeded:
-        lines += ["", "## The full model over its tables' seeds", "",
-                  f"The full model with its tables made at each of `--table-seeds {args.table_seeds}` (the first is the "
-                  "table above's), each rendered at --spp against the same reference: the spread is the tables' draw "
-                  "with the renders' noise. The gate above judges the first seed's tables alone; \"mean within the "
-                  "bar\" says whether the mean over the seeds lies within the gate's bar (the smaller of naive / 3 and "
-                  "3%), for information: it is not the issue's gate.", "",
-                  "| surface | factor | light | naive | bar | full, each seed | mean ± s.e. | std. dev. |"
-                  " mean within the bar |", "|---|---|---|---|---|---|---|---|---|"]
-        for r in seeded:
-            f = r["full_over_seeds"]
-            bar = gate_bar(r["naive"])
-            lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {bar:.2%} | " +
-                         ", ".join(f"{e:+.2%}" for e in f["errors"]) +
-                         f" | {f['mean']:+.2%} ± {f['standard_error']:.2%} | {f['deviation']:.2%} | "
-                         f"{'yes' if abs(f['mean']) <= bar else 'no'} |")
-    if splits:
-        lines += ["", "## Global illumination by light", "",
-                  "The sun and the sky each alone with every bounce (`--lighting sun,sky`): an image under both is "
-                  "the sum of the two, so a model's error under both is its error under each weighted by that "
-                  "light's share of the reference (\"sum\"; it differs from the \"gi\" column by the renders' noise "
-                  "alone). Where naive's error under the sun and under the sky have opposite signs they cancel, "
-                  "and a small error under both lights does not mean naive keeps the look.", "",
-                  "| surface | factor | sun's share | model | under the sun | under the sky | sum | under both (gi) |",
-                  "|---|---|---|---|---|---|---|---|"]
-        for t in splits:
-            for model in ("naive", "multi-lobe", "full"):
-                e = t[model]
-                lines.append(f"| {t['surface']} | {t['factor']}x | {t['sun_share']:.1%} | {model} | {e['sun']:+.2%} |"
-                             f" {e['sky']:+.2%} | {e['sum']:+.2%} | {e['gi']:+.2%} |")
+    if not seeded:
+        return []
+    lines = ["", "## The full model over its tables' seeds", "",
+             f"The full model with its tables made at each of `--table-seeds {args.table_seeds}` (the first is the "
+             "table above's), each rendered at --spp against the same reference: the spread is the tables' draw "
+             "with the renders' noise. The gate above judges the first seed's tables alone; \"mean within the "
+             "bar\" says whether the mean over the seeds lies within the gate's bar (the smaller of naive / 3 and "
+             "3%), for information: it is not the issue's gate.", "",
+             "| surface | factor | light | naive | bar | full, each seed | mean ± s.e. | std. dev. |"
+             " mean within the bar |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in seeded:
+        f = r["full_over_seeds"]
+        bar = gate_bar(r["naive"])
+        lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {r['naive']:+.2%} | {bar:.2%} | " +
+                     ", ".join(f"{e:+.2%}" for e in f["errors"]) +
+                     f" | {f['mean']:+.2%} ± {f['standard_error']:.2%} | {f['deviation']:.2%} | "
+                     f"{'yes' if abs(f['mean']) <= bar else 'no'} |")
+    return lines
+
+
+def report_light_split(splits):
+    """Section 2's split of global illumination into the sun's and the sky's parts."""
+    if not splits:
+        return []
+    lines = ["", "## Global illumination by light", "",
+             "The sun and the sky each alone with every bounce (`--lighting sun,sky`): an image under both is "
+             "the sum of the two, so a model's error under both is its error under each weighted by that "
+             "light's share of the reference (\"sum\"; it differs from the \"gi\" column by the renders' noise "
+             "alone). Where naive's error under the sun and under the sky have opposite signs they cancel, "
+             "and a small error under both lights does not mean naive keeps the look.", "",
+             "| surface | factor | sun's share | model | under the sun | under the sky | sum | under both (gi) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for t in splits:
+        for model in ("naive", "multi-lobe", "full"):
+            e = t[model]
+            lines.append(f"| {t['surface']} | {t['factor']}x | {t['sun_share']:.1%} | {model} | {e['sun']:+.2%} |"
+                         f" {e['sky']:+.2%} | {e['sum']:+.2%} | {e['gi']:+.2%} |")
+    return lines
+
+
+def report_curved_regions(rows):
+    """The ball's and the torus's error by where their pixels meet the base surface."""
     curved_rows = [r for r in rows if "regions" in r]
-    if curved_rows:
-        lines += ["", "## The curved surfaces' error by region", "",
-                  "Pixels by where their camera ray meets the base surface (the ball's sphere: "
-                  "scripts/sphere_regions.py; the torus: scripts/torus_regions.py, its outer half convex, its inner "
-                  "half a saddle): by the cosine between its normal there and the sun, in shadow, or past its "
-                  "silhouette (the bumps' rim). Per region: its share of the reference's light; per model the relative "
-                  "error of the region's mean, and in parentheses its part of the image mean's relative error (the "
-                  "parts add up to the table above).", "",
-                  "| surface | factor | light | region | pixels | share | naive | multi-lobe | full |",
-                  "|---|---|---|---|---|---|---|---|---|"]
-        for r in curved_rows:
-            for g in r["regions"]:
-                lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | "
-                             f"{g['share']:.1%} | " +
-                             " | ".join(("n/a" if g[m]["error"] is None else f"{g[m]['error']:+.1%}") +
-                                        f" ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
-                             + " |")
-    lines += ["", "## Equal time (global illumination)", "",
-              f"RMSE against a reference of {args.spp_ref} spp (another seed), each model rendered for "
-              f"{args.equal_time} s.", "", "| surface | factor | original RMSE (spp) | full model RMSE (spp) | lower |",
-              "|---|---|---|---|---|"]
+    if not curved_rows:
+        return []
+    lines = ["", "## The curved surfaces' error by region", "",
+             "Pixels by where their camera ray meets the base surface (the ball's sphere: "
+             "scripts/sphere_regions.py; the torus: scripts/torus_regions.py, its outer half convex, its inner "
+             "half a saddle): by the cosine between its normal there and the sun, in shadow, or past its "
+             "silhouette (the bumps' rim). Per region: its share of the reference's light; per model the relative "
+             "error of the region's mean, and in parentheses its part of the image mean's relative error (the "
+             "parts add up to the table above).", "",
+             "| surface | factor | light | region | pixels | share | naive | multi-lobe | full |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in curved_rows:
+        for g in r["regions"]:
+            lines.append(f"| {r['surface']} | {r['factor']}x | {r['lighting']} | {g['region']} | {g['pixels']} | "
+                         f"{g['share']:.1%} | " +
+                         " | ".join(("n/a" if g[m]["error"] is None else f"{g[m]['error']:+.1%}") +
+                                    f" ({g[m]['part']:+.2%})" for m in ("naive", "multi-lobe", "full"))
+                         + " |")
+    return lines
+
+
+def report_equal_time(args, rows):
+    """Section 3: the original against the full model at equal render time."""
+    lines = ["", "## Equal time (global illumination)", "",
+             f"RMSE against a reference of {args.spp_ref} spp (another seed), each model rendered for "
+             f"{args.equal_time} s.", "", "| surface | factor | original RMSE (spp) | full model RMSE (spp) | lower |",
+             "|---|---|---|---|---|"]
     for r in rows:
         if "equal_time_full" in r:
             o, f = r["equal_time_reference"], r["equal_time_full"]
             lines.append(f"| {r['surface']} | {r['factor']}x | {o['rmse']:.4g} ({o['spp']}) | {f['rmse']:.4g} ({f['spp']}) |"
                          f" {'full' if f['rmse'] < o['rmse'] else 'original'} |")
-    lines += [] if not lod_rows else ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
-              f"Global illumination; a pixel covers {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} original "
-              f"cells; RMSE and mean relative error "
-              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
-              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
-              f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "
-              "(/usr/bin/time -v).", "",
-              "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
-              " mipmap, models | peak MB: original, mipmap, models |", "|---|---|---|---|---|---|---|"]
+    return lines
+
+
+def report_level_of_detail(args, lod_rows):
+    """Section 4: the mipmaps against the original at equal time, and their error by the view's angle."""
+    if not lod_rows:
+        return []
+    lines = ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
+             f"Global illumination; a pixel covers {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} original "
+             f"cells; RMSE and mean relative error "
+             f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
+             f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
+             f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "
+             "(/usr/bin/time -v).", "",
+             "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
+             " mipmap, models | peak MB: original, mipmap, models |", "|---|---|---|---|---|---|---|"]
     for r in lod_rows:
         o, m, n = r["original"], r["mipmap"], r["models"]
         lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
                      f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
                      f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
-    if any("bands" in r for r in lod_rows):
-        lines += ["", "The mean error by how steeply the view meets the plane (theta_o from its normal; "
-                  "scripts/plane_view_bands.py); the far band reads S beyond its outermost bins (clamped"
-                  f"{'' if not args.planar_view_horizon else f', or here its horizon nodes at {args.planar_view_horizon:g} degrees'}):", "",
-                  "| surface | spp | band | pixels | share of the tiles' light | original | mipmap | models |",
-                  "|---|---|---|---|---|---|---|---|"]
-        for r in (r for r in lod_rows if "bands" in r):
-            for b in r["bands"]:
-                lines.append(f"| {r['surface']} | {r['spp']} | {b['band']} | {b['pixels']} | {b['share']:.1%} |"
-                             f" {b['original']:+.2%} | {b['mipmap']:+.2%} | {b['models']:+.2%} |")
-    if scale_rows:
-        models = list(scale_rows[0]["models"])
-        lines += ["", f"## Equal time at the chapter's scale (Table 4.5): a glossy base over {args.scale_tiles} x "
-                  f"{args.scale_tiles} tiles", "",
-                  f"Global illumination; base BRDF {json.dumps(GLOSSY)}; the view of sections 1-3 scaled to the tiles, "
-                  f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
-                  f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
-                  f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render. The ball "
-                  f"(if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, T x T/2 tiles "
-                  f"with the sphere and the view of sections 1-2 scaled by T / 8, seen at {args.ball_scale_res} "
-                  f"pixels: about " + ", ".join(f"{ball_cells_per_pixel(args, t):.0f} (T = {t})" for t in
-                                                ball_scale_tiles(args)) +
-                  " original cells across a pixel where it faces the camera.", "",
-                  "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
-                  " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
-                  " | lowest |", "|---" * (6 + len(models)) + "|"]
+    banded = [r for r in lod_rows if "bands" in r]
+    if not banded:
+        return lines
+    lines += ["", "The mean error by how steeply the view meets the plane (theta_o from its normal; "
+              "scripts/plane_view_bands.py); the far band reads S beyond its outermost bins (clamped"
+              f"{'' if not args.planar_view_horizon else f', or here its horizon nodes at {args.planar_view_horizon:g} degrees'}):", "",
+              "| surface | spp | band | pixels | share of the tiles' light | original | mipmap | models |",
+              "|---|---|---|---|---|---|---|---|"]
+    for r in banded:
+        for b in r["bands"]:
+            lines.append(f"| {r['surface']} | {r['spp']} | {b['band']} | {b['pixels']} | {b['share']:.1%} |"
+                         f" {b['original']:+.2%} | {b['mipmap']:+.2%} | {b['models']:+.2%} |")
+    return lines
+
+
+def report_chapter_scale(args, scale_rows):
+    """Section 5: equal time where the chapter measures it, a pixel over many original cells."""
+    if not scale_rows:
+        return []
+    models = list(scale_rows[0]["models"])
+    lines = ["", f"## Equal time at the chapter's scale (Table 4.5): a glossy base over {args.scale_tiles} x "
+             f"{args.scale_tiles} tiles", "",
+             f"Global illumination; base BRDF {json.dumps(GLOSSY)}; the view of sections 1-3 scaled to the tiles, "
+             f"so that a pixel covers about {args.cells * args.scale_tiles / res_width(args):.0f} original cells "
+             f"across; each R_ir model rendered for the original's time; RMSE and mean relative error against "
+             f"the original at {args.scale_spp_ref} spp (another seed); peak memory of vdb_render. The ball "
+             f"(if measured): the same base over its bumps map at {args.ball_scale_cells}^2 cells, T x T/2 tiles "
+             f"with the sphere and the view of sections 1-2 scaled by T / 8, seen at {args.ball_scale_res} "
+             f"pixels: about " + ", ".join(f"{ball_cells_per_pixel(args, t):.0f} (T = {t})" for t in
+                                           ball_scale_tiles(args)) +
+             " original cells across a pixel where it faces the camera.", "",
+             "| surface | seconds | original RMSE (spp) | " + " | ".join(f"{m} RMSE (spp)" for m in models) +
+             " | mean error: original, " + ", ".join(models) + " | peak MB: original, " + ", ".join(models) +
+             " | lowest |", "|---" * (6 + len(models)) + "|"]
     for r in scale_rows:
         o, ms = r["original"], r["models"]
         best = min([("original", o["rmse"])] + [(m, v["rmse"]) for m, v in ms.items()], key=lambda p: p[1])[0]
@@ -812,23 +854,33 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
                      " | ".join(f"{v['rmse']:.4f} ({v['spp']})" for v in ms.values()) +
                      f" | {o['mean']:+.2%}, " + ", ".join(f"{v['mean']:+.2%}" for v in ms.values()) +
                      f" | {o['peak_mb']:.0f}, " + ", ".join(f"{v['peak_mb']:.0f}" for v in ms.values()) + f" | {best} |")
-    lines += ["", "## Precomputation and storage (Tables 4.3-4.4)", "",
-              "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
-              "32-bit floats.", "",
-              "\"Stretched T S\": the tables of the tiles of `--ball-stretches` (docs/displacement.md §6), made "
-              "within \"scaling s\". \"S's bins' error\": the relative standard error of S's bins' estimates, "
-              "median / 90th / 99th percentile over the bins (docs/displacement.md §6, \"The tables' own error\").", "",
-              "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | "
-              "B (relief term) | stretched T S B | S range | S's bins' error |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    return lines
+
+
+def report_precomputation(timing_rows):
+    """Tables 4.3-4.4: each set of tables' seconds by step and its parts' bytes."""
+    lines = ["", "## Precomputation and storage (Tables 4.3-4.4)", "",
+             "Seconds of each step on this machine's cores (the chapter: 22-36 minutes per model); bytes as "
+             "32-bit floats.", "",
+             "\"Stretched T S\": the tables of the tiles of `--ball-stretches` (docs/displacement.md §6), made "
+             "within \"scaling s\". \"S's bins' error\": the relative standard error of S's bins' estimates, "
+             "median / 90th / 99th percentile over the bins (docs/displacement.md §6, \"The tables' own error\").", "",
+             "| surface | factor | scaling | h_low s | NDFs s | scaling s | original bytes | h_low | SVNDF | T | S | "
+             "B (relief term) | stretched T S B | S range | S's bins' error |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for t in timing_rows:
         s, b, rng = t["seconds"], t["bytes"], t["ranges"]["S"]
         lines.append(f"| {t['surface']} | {t['factor']}x | {t['scaling']} | {s['height']:.2f} | {s['ndfs']:.1f} |"
                      f" {s['scaling']:.1f} | {b['original_height']} | {b['height']} | {b['svndf']} | {b['T']} | {b['S']} |"
                      f" {b.get('B', 0)} |"
                      f" {b.get('stretched_tables', 0)} | {rng['min']:.2f}-{rng['max']:.2f} | {table_error(t['ranges'])} |")
-    lines += ["", "## Images", "", "Each `*_sbs.png`: reference | model | signed relative error (red brighter, blue "
-              "darker, saturated at 50%)."]
+    return lines
+
+
+def report_images(rows, lod_rows, scale_rows):
+    """Links to every side-by-side image of the run."""
+    lines = ["", "## Images", "", "Each `*_sbs.png`: reference | model | signed relative error (red brighter, blue "
+             "darker, saturated at 50%)."]
     for r in rows:
         tag = f"{r['surface']}_{r['factor']}x_{r['lighting']}"
         lines.append(f"- {tag}: " + ", ".join(f"[{m}]({tag}_{m}_sbs.png)" for m in ("naive", "multi-lobe", "full")))
@@ -840,6 +892,16 @@ def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=())
         tag = r["tag"]
         lines.append(f"- {tag}, {r['spp']} spp of the original: " +
                      ", ".join(f"[{m}]({tag}_{m}_{r['spp']}_sbs.png)" for m in ["original"] + list(r["models"])))
+    return lines
+
+
+def write_report(args, out, rows, timing_rows, lod_rows, seconds, scale_rows=()):
+    """report.md, section by section, and report.json with every measured figure."""
+    splits = light_split(rows)
+    lines = (report_header(args, seconds) + report_mean_intensity(rows) + report_seeds(args, rows) +
+             report_light_split(splits) + report_curved_regions(rows) + report_equal_time(args, rows) +
+             report_level_of_detail(args, lod_rows) + report_chapter_scale(args, scale_rows) +
+             report_precomputation(timing_rows) + report_images(rows, lod_rows, scale_rows))
     (out / "report.md").write_text("\n".join(lines) + "\n")
     (out / "report.json").write_text(json.dumps({"rows": rows, "light_split": splits, "precomputation": timing_rows, "level_of_detail": lod_rows,
                                                  "chapter_scale": list(scale_rows), "resumed": args.resumed}, indent=1))
