@@ -30,7 +30,8 @@ the twill, ball and torus 16x as the bump, noise 64x, relief 16x; unless --no-ch
 3. Equal time (Table 4.5): the original and the full model each rendered for --equal-time seconds
    under global illumination; their RMSE against the reference (rendered with another seed).
 4. Level of detail (§4.7.2, Fig. 4.12, Table 4.5; the planar surfaces): the map tiled 4 x 4 and seen at a grazing angle,
-   so that a pixel covers from 1.7 to 43 original cells of a 512^2 map (twice as many at 1K^2), under
+   so that a pixel's footprint is 1.7 to 43 original cells of a 512^2 map wide by the square root of its
+   area (twice as many at 1K^2; across the view 2 to 20 at 1K^2), under
    global illumination: the original at
    --lod-spp samples per pixel, and at the same render time the mipmap of the original and the
    R_ir models of --factors (each path on the level its pixel's footprint picks: by its width across
@@ -800,8 +801,8 @@ def report_level_of_detail(args, lod_rows):
     if not lod_rows:
         return []
     lines = ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
-             f"Global illumination; a pixel covers {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} original "
-             f"cells; RMSE and mean relative error "
+             f"Global illumination; a pixel's footprint is {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} "
+             f"original cells wide by the square root of its area; RMSE and mean relative error "
              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
              f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "
