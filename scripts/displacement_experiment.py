@@ -802,7 +802,8 @@ def report_level_of_detail(args, lod_rows):
         return []
     lines = ["", "## Level of detail (§4.7.2): equal time over a grazing view of 4 x 4 tiles", "",
              f"Global illumination; a pixel's footprint is {1.7 * args.cells / 512:.1f} to {43 * args.cells / 512:.0f} "
-             f"original cells wide by the square root of its area; RMSE and mean relative error "
+             f"original cells wide by the square root of its area ({2.1 * args.cells / 1024:.1f} to "
+             f"{20 * args.cells / 1024:.0f} across the view); RMSE and mean relative error "
              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
              f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "

@@ -66,12 +66,22 @@ BaseIntersector meshBase(const MeshShell& shell, int cells_x, int cells_y) {
   };
 }
 
+namespace {
+
+// The pixel's solid angle spread^2 covers t spread across the view by t spread / cos(theta) along it
+// (to first order), `cell` wide cells of the original.
+Footprint footprintAt(double t, double spread, double cos_theta, double cell) {
+  const double across = t * spread / cell;
+  return Footprint{t, across, across / std::sqrt(cos_theta)};
+}
+
+}  // namespace
+
 std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& ray) {
-  if (mipmap.curved) {
+  if (mipmap.curved) {  // theta to the curved base's normal where the ray meets it, its cells stretched there
     const std::optional<BaseHit> hit = mipmap.curved(ray);
     if (!hit || !(hit->cos_theta > 1e-12) || !(hit->cell > 0)) return std::nullopt;
-    const double across = hit->t * ray.spread / hit->cell;
-    return Footprint{hit->t, across, across / std::sqrt(hit->cos_theta)};
+    return footprintAt(hit->t, ray.spread, hit->cos_theta, hit->cell);
   }
   const double cos_theta = std::abs(ray.d.z());
   if (!(cos_theta > 1e-12)) return std::nullopt;
@@ -80,9 +90,7 @@ std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& r
   const Vec3 p = ray(t);
   const double x = p.x() - mipmap.origin.x(), y = p.y() - mipmap.origin.y();
   if (x < 0 || y < 0 || x > mipmap.width_x || y > mipmap.width_y) return std::nullopt;
-  // The pixel's solid angle spread^2 covers t spread across by t spread / cos(theta) along the view.
-  const double across = t * ray.spread / mipmap.cell;
-  return Footprint{t, across, across / std::sqrt(cos_theta)};
+  return footprintAt(t, ray.spread, cos_theta, mipmap.cell);
 }
 
 int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& ray, RandomStream& rng) {
@@ -98,7 +106,7 @@ int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& ray, Rando
     for (const MipmapFootprint& mipmap : mipmaps) coarsest = std::max(coarsest, mipmap.factors.size());
     return int(coarsest) - 1;
   }
-  const LevelBlend blend = blendForFootprint(nearest->factors, at.cells(nearest->width));
+  const LevelBlend blend = blendForFootprint(nearest->factors, at.cells(nearest->levels_by));
   if (blend.lower == blend.upper || !(blend.weight > 0)) return blend.lower;
   return rng.uniform() < blend.weight ? blend.upper : blend.lower;
 }

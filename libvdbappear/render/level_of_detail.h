@@ -29,12 +29,13 @@ struct BaseHit {
 };
 using BaseIntersector = std::function<std::optional<BaseHit>(const Ray&)>;
 
-// Which width of a pixel's footprint picks the levels. The footprint of a ray that meets the base at
-// theta from its normal is t spread across and t spread / cos(theta) along the view: `narrow` takes
-// the width across, the pixel's finest extent, so that a grazing view does not get the coarse levels
-// that its length along the view would pick (the pixel's samples cover its length, as anisotropic
-// texture filtering's probes do); `area` takes the square root of its area, t spread /
-// sqrt(cos(theta)), coarser toward the horizon (docs/displacement.md §8-9).
+// Which width of a pixel's footprint picks the levels. §4.7.2 computes the footprint from ray
+// differentials and does not say which of its widths picks the levels. The footprint of a ray that
+// meets the base at theta from its normal is, to first order, t spread across the view and t spread /
+// cos(theta) along it. `narrow` takes the width across, the pixel's finest extent, so that a grazing
+// view does not get the coarse levels that its length along the view would pick (the pixel's samples
+// cover its length, as anisotropic texture filtering's probes do); `area` takes the square root of
+// its area, t spread / sqrt(cos(theta)), coarser toward the horizon (docs/displacement.md §8-9).
 enum class FootprintWidth { narrow, area };
 
 // A mipmap as the renderer places it: tiles on the plane z = origin.z from origin.xy, or on a curved
@@ -45,7 +46,7 @@ struct MipmapFootprint {
   double cell = 1;                  // world width of one cell of the original map
   std::vector<double> factors;      // of levels 0, 1, ...: increasing, 1 for the original map
   BaseIntersector curved;           // set: the tiles lie on it (origin, widths and cell unused)
-  FootprintWidth width = FootprintWidth::narrow;  // which width picks the levels
+  FootprintWidth levels_by = FootprintWidth::narrow;  // which width of a pixel's footprint picks the levels
 };
 
 // The bases of surface/sphere_shell.h and surface/mesh_shell.h for an original map of cells_x x
@@ -76,10 +77,10 @@ struct Footprint {
 std::optional<Footprint> footprintOn(const MipmapFootprint& mipmap, const Ray& camera_ray);
 
 // The level of a path from its camera ray: by the nearest mipmap the ray meets (its footprint's width
-// as that mipmap's `width` says), drawing one uniform
-// number only where two levels blend (so that scenes and pixels without a blend keep their random
-// streams). A ray without spread (not from a camera) gets level 0, one that meets no mipmap the
-// coarsest of any (what it reaches after a bounce is far or blurred).
+// that the mipmap's `levels_by` names), drawing one uniform number only where two levels blend (so
+// that scenes and pixels without a blend keep their random streams). A ray without spread (not from a
+// camera) gets level 0, one that meets no mipmap the coarsest of any (what it reaches after a bounce
+// is far or blurred).
 int pathLevel(const std::vector<MipmapFootprint>& mipmaps, const Ray& camera_ray, RandomStream& rng);
 
 }  // namespace vdbappear

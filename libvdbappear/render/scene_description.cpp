@@ -148,6 +148,7 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
   checkKeys(h, {"file", "prefiltered", "mipmap", "footprint", "scaling", "size", "origin", "sphere", "mesh", "vertices_per_cell",
                 "height_scale", "tiles", "albedo", "brdf"},
             source, where);
+  if (h.contains("footprint") && !h.contains("mipmap")) fail(source, where + ".footprint", "only with \"mipmap\"");
   HeightFieldDescription field;
   if (h.contains("mesh")) {
     for (const char* key : {"origin", "sphere"})
@@ -183,8 +184,6 @@ HeightFieldDescription heightFieldOf(const json& h, const std::string& folder, c
       if (f != "narrow" && f != "area") fail(source, where + ".footprint", "expected \"narrow\" or \"area\"");
       field.footprint = f == "narrow" ? FootprintWidth::narrow : FootprintWidth::area;
     }
-  } else if (h.contains("footprint")) {
-    fail(source, where + ".footprint", "only with \"mipmap\"");
   } else if (h.contains("prefiltered")) {
     if (!h["prefiltered"].is_string()) fail(source, where + ".prefiltered", "expected the path of a manifest");
     for (const char* key : {"file", "size", "height_scale", "albedo", "brdf"})
@@ -634,7 +633,8 @@ void addMipmap(const HeightFieldDescription& field, const ImageReader& read_imag
   const PrefilteredSurfaceFile& first = levels.front();
   const HeightFieldPlacement& placement = field.placement;
   MipmapFootprint footprint{placement.origin, first.info.size * placement.tiles_x, first.info.size * placement.tiles_y,
-                            first.info.size / fine_cells, {}, {}, field.footprint};
+                            first.info.size / fine_cells, {}, {}};
+  footprint.levels_by = field.footprint;
   const int fine_cells_y = first.surface.height.cellsY() * first.info.factor;
   const CurvedBase base = curvedBaseOf(field, first.info.size);
   if (base.sphere) footprint.curved = sphereBase(*base.sphere, fine_cells, fine_cells_y);

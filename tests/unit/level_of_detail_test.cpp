@@ -39,8 +39,7 @@ TEST(LevelOfDetail, BlendBracketsTheFootprintInLogFactor) {
 }
 
 // The footprint's area width is the square root of the area that the pixel's four corner rays cut
-// out of the plane, for a camera looking down obliquely, in the middle and at a corner of the image;
-// its narrow width is sqrt(cos theta) of that.
+// out of the plane, for a camera looking down obliquely, in the middle and at a corner of the image.
 TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
   const int width = 400, height = 300;
   const PinholeCamera camera({Vec3(0.3, -3, 2), Vec3(0, 0, 0), Vec3(0, 0, 1), 40}, width, height);
@@ -56,8 +55,6 @@ TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
     const std::optional<Footprint> f = footprintOn(mipmap, camera.ray(x, y));
     ASSERT_TRUE(f) << x << " " << y;
     EXPECT_NEAR(f->area_cells * mipmap.cell, std::sqrt(area), 2e-3 * std::sqrt(area)) << x << " " << y;
-    const Ray r = camera.ray(x, y);
-    EXPECT_NEAR(f->narrow_cells, f->area_cells * std::sqrt(std::abs(r.d.z()) / r.d.norm()), 1e-9 * f->area_cells);
   }
   mipmap.width_x = 0.1;  // the tiles end before the ray meets the plane: no footprint
   EXPECT_FALSE(footprintOn(mipmap, camera.ray(20.5, 280.5)));
@@ -66,7 +63,8 @@ TEST(LevelOfDetail, FootprintIsThePixelsAreaOnThePlane) {
 
 // The narrow width is the pixel's width across the view: for the pixel at the centre of a camera
 // that looks down a plane's y axis, the mean length of the two edges its corner rays cut out across
-// it, a quarter of the length they cut out along it (the view meets the plane 14 degrees above it).
+// it, 1 / sqrt(17) (about a quarter) of the length they cut out along it (the view meets the plane 14
+// degrees above it).
 TEST(LevelOfDetail, NarrowFootprintIsThePixelsWidthAcrossTheView) {
   const int width = 400, height = 300;
   const PinholeCamera camera({Vec3(0, -4, 1), Vec3(0, 0, 0), Vec3(0, 0, 1), 40}, width, height);
@@ -117,7 +115,8 @@ TEST(LevelOfDetail, FootprintOnASphereAndAMesh) {
     ASSERT_TRUE(f);
     EXPECT_NEAR(f->t, 2, 2e-3);
     EXPECT_NEAR(f->area_cells, expected, 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
-    EXPECT_NEAR(f->narrow_cells, expected * std::sqrt(std::cos(kPi / 6)), 0.02 * expected) << (m == &on_mesh ? "mesh" : "sphere");
+    const double across = expected * std::sqrt(std::cos(kPi / 6));
+    EXPECT_NEAR(f->narrow_cells, across, 0.02 * across) << (m == &on_mesh ? "mesh" : "sphere");
   }
   const Ray away{Vec3(0, -4, 0.5), Vec3(0, -1, 0), spread};
   EXPECT_FALSE(footprintOn(on_sphere, away));
@@ -160,7 +159,7 @@ TEST(LevelOfDetail, NarrowFootprintKeepsFinerLevelsTowardTheHorizon) {
   EXPECT_NEAR(f->area_cells, 18, 1e-9);
   RandomStream a(3, {1}), b(3, {1});
   EXPECT_EQ(pathLevel(mipmaps, grazing, a), 0);
-  mipmaps[0].width = FootprintWidth::area;
+  mipmaps[0].levels_by = FootprintWidth::area;
   EXPECT_EQ(pathLevel(mipmaps, grazing, a), 2);
   EXPECT_EQ(a.uniform(), b.uniform());  // neither blends, so neither draws
 }

@@ -757,10 +757,11 @@ struct MipmapScenes {
     return buildRenderScene(d, nullptr, [&](const std::string&) { return heightImage(bumpy); },
                             [&](const std::string&) { return coarse; });
   }
-  RenderScene mipmap() const {
+  RenderScene mipmap(FootprintWidth levels_by = FootprintWidth::narrow) const {
     HeightFieldDescription field;
     field.file = "bumpy.exr";
     field.mipmap = {"flat_4x.json"};
+    field.footprint = levels_by;
     return build(field);
   }
   RenderScene original() const {
@@ -805,13 +806,15 @@ TEST(Surfaces, MipmapBlendsTwoLevelsByTheFootprint) {
   const Render mipmap = summarize(renderImage(scenes.mipmap(), camera, small(8, 256, 4)));
   const MipmapFootprint footprint = scenes.mipmap().mipmaps.at(0);
   EXPECT_EQ(footprint.factors, (std::vector<double>{1, 4}));
+  EXPECT_EQ(footprint.levels_by, FootprintWidth::narrow);
+  EXPECT_EQ(scenes.mipmap(FootprintWidth::area).mipmaps.at(0).levels_by, FootprintWidth::area);
   double expected = 0, variance = 0;
   const double n = double(original.result.mean.size());  // 3 channels per pixel
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x) {
       const std::optional<Footprint> f = footprintOn(footprint, camera.ray(x + 0.5, y + 0.5));
       ASSERT_TRUE(f) << x << " " << y;
-      const double w = blendForFootprint(footprint.factors, f->cells(footprint.width)).weight;
+      const double w = blendForFootprint(footprint.factors, f->cells(footprint.levels_by)).weight;
       EXPECT_NEAR(w, std::log(1.5) / std::log(4.0), 0.02) << x << " " << y;
       for (std::size_t i = std::size_t(3 * (y * 8 + x)), c = 0; c < 3; ++c) {
         expected += ((1 - w) * original.result.mean[i + c] + w * coarse.result.mean[i + c]) / n;
