@@ -22,6 +22,14 @@ PrefilteredBrdf::PrefilteredBrdf(const PrefilteredSurface& surface, const Microf
 
 namespace {
 
+// The density of f'_low's lobe draws folded onto the upper hemisphere (PrefilteredBrdf::sample on a
+// plane): a draw below the base horizon, where Eq. (4.5) is zero, is mirrored to wi above it, so wi
+// is reached by its own draw and by its mirror image's.
+double foldedPdf(const MultiLobeBrdf& cell, const Vec3& wo, const Vec3& wi) {
+  if (!(wo.z() > 0) || !(wi.z() > 0)) return 0;
+  return cell.lobePdf(wo, wi) + cell.lobePdf(wo, Vec3(wi.x(), wi.y(), -wi.z()));
+}
+
 // d_k of scalingOnTile(): how far the residual stretch R is from none, either way.
 double residualDistance(const TileStretch& residual) {
   const Eigen::Matrix2d I = Eigen::Matrix2d::Identity();
@@ -106,10 +114,15 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo, const
 BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u,
                                     const TileStretch& stretch, const Vec3& coarse_normal) const {
   if (shape_ == Base::kPlane) {
-    BrdfSample s = cellAt(x).sample(wo, u_lobe, u);
-    if (s.pdf > 0)
-      s.weight = stretch.isIdentity() ? Rgb(s.weight * square(x, s.wi, wo))
-                                      : Rgb(eval(x, s.wi, wo, stretch, coarse_normal) * (s.wi.z() / s.pdf));
+    const MultiLobeBrdf& cell = cellAt(x);
+    if (!(wo.z() > 0)) return {};
+    BrdfSample s = cell.sampleLobes(wo, u_lobe, u);
+    if (!(s.pdf > 0)) return {};
+    s.pdf += cell.lobePdf(wo, Vec3(s.wi.x(), s.wi.y(), -s.wi.z()));  // foldedPdf at the folded wi
+    s.wi.z() = std::abs(s.wi.z());
+    if (!(s.wi.z() > 0)) return {};
+    s.weight = (stretch.isIdentity() ? Rgb(cell.eval(s.wi, wo) * square(x, s.wi, wo))
+                                     : eval(x, s.wi, wo, stretch, coarse_normal)) * (s.wi.z() / s.pdf);
     return s;
   }
   const bool below = u_lobe < kBelowHorizonShare;
@@ -124,7 +137,7 @@ BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lob
 
 double PrefilteredBrdf::pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const {
   const MultiLobeBrdf& f = cellAt(x);
-  if (shape_ == Base::kPlane) return f.pdf(wo, wi);
+  if (shape_ == Base::kPlane) return foldedPdf(f, wo, wi);
   if (wi.z() < 0) return kBelowHorizonShare * f.lobePdf(wo, Vec3(wi.x(), wi.y(), -wi.z()));
   return wi.z() > 0 ? (1 - kBelowHorizonShare) * f.lobePdf(wo, wi) : 0.0;
 }

@@ -46,8 +46,10 @@ class PrefilteredBrdf {
   // (docs/displacement.md §8).
   Rgb eval(const Point2& x, const Vec3& wi, const Vec3& wo, const TileStretch& stretch = {},
            const Vec3& coarse_normal = Vec3::UnitZ()) const;
-  // wi by f'_low's lobes (of the square tile whatever the stretch), and on a curved base with
-  // probability kBelowHorizonShare such a draw mirrored below the horizon; weight = eval |cos theta_i| / pdf.
+  // wi by f'_low's lobes (of the square tile whatever the stretch). On a plane a draw below the base
+  // horizon, where Eq. (4.5) is zero, is mirrored above it (its density then the sum of the two
+  // draws'), so that no draw is lost; on a curved base with probability kBelowHorizonShare a draw
+  // above is mirrored below the horizon. weight = eval |cos theta_i| / pdf.
   BrdfSample sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u, const TileStretch& stretch = {},
                     const Vec3& coarse_normal = Vec3::UnitZ()) const;
   double pdf(const Point2& x, const Vec3& wo, const Vec3& wi) const;  // solid-angle density of sample()

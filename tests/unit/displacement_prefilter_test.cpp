@@ -1,9 +1,11 @@
 // The whole prefiltering at one scale (libvdbappear/prefilter/displacement_prefilter.h, §4.7.1 of
 // the displacement chapter): a flat map needs no scaling (T = S = 1); on a bumpy Lambertian map
 // interreflection only adds light (S_ir >= S bin by bin, the same base positions); bad settings throw.
+#include "libvdbappear/math/sampling.h"
 #include "libvdbappear/prefilter/displacement_prefilter.h"
 #include "libvdbappear/prefilter/prefiltered_brdf.h"
 #include "libvdbappear/prefilter/prefiltered_surface_file.h"
+#include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/util/error.h"
 
 #include "support/chi2_test.h"
@@ -196,6 +198,70 @@ TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
     lit_below += f.eval(x, at(-0.1), wo).maxCoeff();
   }
   EXPECT_GT(lit_below, 0);
+}
+
+// On a plane, sample() folds f'_low's lobe draws that fall below the base horizon (where Eq. (4.5)
+// is zero) onto their mirror images above it: wi follows pdf() over the upper hemisphere, the
+// weight is eval cos theta_i / pdf, and the mean weight, the integral of f_low cos theta_i, is what
+// cosine-weighted directions estimate (a draw of no value was absorbed before). The weights spread
+// less than those of the unfolded draws (MultiLobeBrdf::sample times T S), which lose every draw
+// below the horizon: the negative control.
+TEST(PrefilteredBrdf, SamplingOnAPlaneFoldsDrawsBelowTheHorizonAbove) {
+  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
+  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
+  const PrefilteredSurface surface = prefilterDisplacement(bumpy, base, test::smallPrefilterSettings());
+  const PrefilteredBrdf f(surface, base, PrefilteredBrdf::Base::kPlane);
+  const Point2 x(0.3, 0.6);  // coarse cell (1, 2) of 4 x 4
+  const MultiLobeBrdf cell(surface.ndfs[1 + 4 * 2], base);
+  const Vec3 wo = Vec3(0.2, -0.85, 0.5).normalized();  // 60 degrees from the normal
+  double u_lobe = 0;
+  test::Chi2Options o;
+  o.seed = 71;
+  o.sample_count = 200'000;
+  o.bins.tolerance = 1e-5;
+  o.bins.max_depth = 4;
+  o.absorbed_samples = true;
+  const test::Chi2Result r = test::chi2TestDirections(
+      [&](const Point2& u) {
+        u_lobe = std::fmod(u_lobe + 0.6180339887498949, 1.0);
+        const BrdfSample s = f.sample(x, wo, u_lobe, u);
+        return s.pdf > 0 ? s.wi : Vec3(0, 0, 0);
+      },
+      [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, o);
+  EXPECT_TRUE(r.passed) << r.summary;
+
+  test::TestRandom random(9);
+  const int n = 200'000;
+  double folded = 0, folded2 = 0, unfolded = 0, unfolded2 = 0, cosine = 0, cosine2 = 0;
+  int absorbed_before = 0;
+  for (int i = 0; i < n; ++i) {
+    const double u_l = random.uniform();
+    const Point2 u = random.point2();
+    const BrdfSample s = f.sample(x, wo, u_l, u);
+    if (s.pdf > 0) {
+      ASSERT_GT(s.wi.z(), 0);
+      const Rgb expected = f.eval(x, s.wi, wo) * s.wi.z() / f.pdf(x, wo, s.wi);
+      ASSERT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.maxCoeff()));
+    }
+    const double w = s.pdf > 0 ? s.weight.mean() : 0.0;
+    folded += w, folded2 += w * w;
+    const BrdfSample b = cell.sample(wo, u_l, u);  // the same draw, unfolded
+    absorbed_before += !(b.pdf > 0);
+    const double v = b.pdf > 0 ? (b.weight * f.scalingOnTile(x, b.wi, wo, {})).mean() : 0.0;
+    unfolded += v, unfolded2 += v * v;
+    const Vec3 wi = sampleCosineHemisphere(random.point2());
+    const double c = wi.z() > 0 ? f.eval(x, wi, wo).mean() * kPi : 0.0;  // f cos / (cos / pi)
+    cosine += c, cosine2 += c * c;
+  }
+  const auto variance = [&](double sum, double sum2) { return sum2 / n - (sum / n) * (sum / n); };
+  const double error = std::sqrt((variance(folded, folded2) + variance(cosine, cosine2)) / n);
+  std::printf("albedo: folded %.5f, unfolded %.5f, cosine %.5f +- %.5f; weight std folded %.4f, unfolded %.4f; "
+              "draws absorbed unfolded %.1f%%\n", folded / n, unfolded / n, cosine / n, error,
+              std::sqrt(variance(folded, folded2)), std::sqrt(variance(unfolded, unfolded2)), 100.0 * absorbed_before / n);
+  EXPECT_NEAR(folded / n, cosine / n, 4 * error);
+  EXPECT_NEAR(unfolded / n, cosine / n, 4 * std::sqrt((variance(unfolded, unfolded2) + variance(cosine, cosine2)) / n));
+  EXPECT_GT(absorbed_before, n / 20);  // the control loses draws below the horizon
+  EXPECT_LT(variance(folded, folded2), 0.8 * variance(unfolded, unfolded2));
 }
 
 // A view below a curved base's horizon (prefilter/prefiltered_brdf.h): f_low is continuous across
