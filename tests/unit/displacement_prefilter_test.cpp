@@ -8,6 +8,7 @@
 #include "libvdbappear/surface/multi_lobe_brdf.h"
 #include "libvdbappear/util/error.h"
 
+#include "support/brdf_chi2.h"
 #include "support/chi2_test.h"
 #include "support/height_fields.h"
 #include "support/prefilter_settings.h"
@@ -147,6 +148,27 @@ TEST(DisplacementPrefilter, RefusesAFactorThatDoesNotDivideTheMap) {
   EXPECT_THROW(prefilterDisplacement(HeightField(32, 32, 0.01), base, s), std::invalid_argument);
 }
 
+// A bumpy map's model (facets up to 51 degrees) and its coarse cell (1, 2) of 4 x 4 at x.
+struct BumpyModel {
+  HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
+  MicrofacetBrdf base{MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1)};
+  PrefilteredSurface surface = prefilterDisplacement(bumpy, base, test::smallPrefilterSettings());
+  Point2 x{0.3, 0.6};
+  MultiLobeBrdf cell{surface.ndfs[1 + 4 * 2], base};
+};
+
+// The chi-square test's settings for the renderer's SVBRDF: draws that fail are absorbed.
+test::Chi2Options samplingOptions(std::uint64_t seed, int test_count) {
+  test::Chi2Options o;
+  o.test_count = test_count;
+  o.seed = seed;
+  o.sample_count = 200'000;
+  o.bins.tolerance = 1e-5;
+  o.bins.max_depth = 4;
+  o.absorbed_samples = true;
+  return o;
+}
+
 // The renderer's SVBRDF (prefilter/prefiltered_brdf.h) on a curved base: sample() draws wi with the
 // density pdf() over the whole sphere, f'_low's lobes above the base horizon and their mirror
 // images below it, for a view above the horizon and one below it (a sphere's silhouette); its
@@ -160,21 +182,9 @@ TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
   test::TestRandom random(5);
   std::uint64_t seed = 40;
   for (const Vec3& wo : {Vec3(0.3, 0.1, 1).normalized(), Vec3(0.95, 0.2, -0.04).normalized()}) {
-    double u_lobe = 0;
-    test::Chi2Options o;
-    o.test_count = 2;
-    o.seed = ++seed;
-    o.sample_count = 200'000;
-    o.bins.tolerance = 1e-5;
-    o.bins.max_depth = 4;
-    o.absorbed_samples = true;
-    const test::Chi2Result r = test::chi2TestDirections(
-        [&](const Point2& u) {
-          u_lobe = std::fmod(u_lobe + 0.6180339887498949, 1.0);
-          const BrdfSample s = f.sample(x, wo, u_lobe, u);
-          return s.pdf > 0 ? s.wi : Vec3(0, 0, 0);
-        },
-        [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, o);
+    const test::Chi2Result r = test::chi2TestBrdfSampling(
+        [&](double u_lobe, const Point2& u) { return f.sample(x, wo, u_lobe, u); },
+        [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, samplingOptions(++seed, 2));
     EXPECT_TRUE(r.passed) << r.summary;
     EXPECT_LT(r.invalid_fraction, 0.5) << r.summary;  // the view below the horizon is reflected too
     int below = 0;
@@ -207,27 +217,14 @@ TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
 // less than those of the unfolded draws (MultiLobeBrdf::sample times T S), which lose every draw
 // below the horizon: the negative control.
 TEST(PrefilteredBrdf, SamplingOnAPlaneFoldsDrawsBelowTheHorizonAbove) {
-  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
-  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredSurface surface = prefilterDisplacement(bumpy, base, test::smallPrefilterSettings());
-  const PrefilteredBrdf f(surface, base, PrefilteredBrdf::Base::kPlane);
-  const Point2 x(0.3, 0.6);  // coarse cell (1, 2) of 4 x 4
-  const MultiLobeBrdf cell(surface.ndfs[1 + 4 * 2], base);
+  const BumpyModel m;
+  const PrefilteredBrdf f(m.surface, m.base, PrefilteredBrdf::Base::kPlane);
+  const Point2& x = m.x;
+  const MultiLobeBrdf& cell = m.cell;
   const Vec3 wo = Vec3(0.2, -0.85, 0.5).normalized();  // 60 degrees from the normal
-  double u_lobe = 0;
-  test::Chi2Options o;
-  o.seed = 71;
-  o.sample_count = 200'000;
-  o.bins.tolerance = 1e-5;
-  o.bins.max_depth = 4;
-  o.absorbed_samples = true;
-  const test::Chi2Result r = test::chi2TestDirections(
-      [&](const Point2& u) {
-        u_lobe = std::fmod(u_lobe + 0.6180339887498949, 1.0);
-        const BrdfSample s = f.sample(x, wo, u_lobe, u);
-        return s.pdf > 0 ? s.wi : Vec3(0, 0, 0);
-      },
-      [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, o);
+  const test::Chi2Result r = test::chi2TestBrdfSampling(
+      [&](double u_lobe, const Point2& u) { return f.sample(x, wo, u_lobe, u); },
+      [&](const Vec3& wi) { return f.pdf(x, wo, wi); }, samplingOptions(71, 1));
   EXPECT_TRUE(r.passed) << r.summary;
 
   test::TestRandom random(9);
@@ -269,12 +266,11 @@ TEST(PrefilteredBrdf, SamplingOnAPlaneFoldsDrawsBelowTheHorizonAbove) {
 // in view (MultiLobeBrdf::visibleMean) down each azimuth, on the square tile and on a squeezed one.
 // Eq. (4.5)'s sum alone, which fades as fewer lobes face the viewer, is the negative control.
 TEST(PrefilteredBrdf, ViewBelowACurvedBaseFollowsTheLobesInView) {
-  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
-  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredSurface surface = prefilterDisplacement(bumpy, base, test::smallPrefilterSettings());
-  const PrefilteredBrdf f(surface, base, PrefilteredBrdf::Base::kCurved);
-  const Point2 x(0.3, 0.6);  // coarse cell (1, 2) of 4 x 4
-  const MultiLobeBrdf cell(surface.ndfs[1 + 4 * 2], base);
+  const BumpyModel m;
+  const PrefilteredSurface& surface = m.surface;
+  const PrefilteredBrdf f(surface, m.base, PrefilteredBrdf::Base::kCurved);
+  const Point2& x = m.x;
+  const MultiLobeBrdf& cell = m.cell;
   const Vec3 wi = Vec3(0.2, 0.3, 0.9).normalized();
   int compared = 0;
   double largest_fade = 0;

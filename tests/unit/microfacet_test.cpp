@@ -6,6 +6,7 @@
 #include "libvdbappear/math/constants.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 
+#include "support/brdf_chi2.h"
 #include "support/chi2_test.h"
 #include "support/sphere_quadrature.h"
 #include "support/test_random.h"
@@ -143,13 +144,8 @@ TEST(Microfacet, BrdfSamplingFollowsItsPdfAndWeightsAreEvalOverPdf) {
   for (const Case& c : kCases) {
     const MicrofacetBrdf brdf(MicrofacetDistribution(c.kind, c.alpha), Rgb(0.9, 0.6, 0.3), Rgb(0.2, 0.3, 0.1));
     const Vec3 wo = Vec3(0.6, 0.2, 0.5).normalized();
-    double u_lobe = 0;
-    const test::Chi2Result r = test::chi2TestDirections(
-        [&](const Point2& u) {
-          u_lobe = std::fmod(u_lobe + 0.6180339887498949, 1.0);  // a third number, equidistributed
-          const BrdfSample s = brdf.sample(wo, u_lobe, u);
-          return s.pdf > 0 ? s.wi : Vec3(0, 0, 0);
-        },
+    const test::Chi2Result r = test::chi2TestBrdfSampling(
+        [&](double u_lobe, const Point2& u) { return brdf.sample(wo, u_lobe, u); },
         [&](const Vec3& wi) { return brdf.pdf(wo, wi); }, absorbing(hemisphereOptions(reflect(wo, Vec3(0, 0, 1)), ++seed)));
     EXPECT_TRUE(r.passed) << name(c) << ": " << r.summary;
     for (int trial = 0; trial < 100; ++trial) {
