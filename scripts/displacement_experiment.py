@@ -580,7 +580,7 @@ def lod_bands(args, out, tag, fields, spp, reference, masks):
 def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
     """The first field ("original") at spp samples per pixel, every other for the time it took, under
     global illumination: the seconds, and per field its RMSE, mean error, spp and peak memory against
-    the reference."""
+    the reference, and its noise: the standard error of a pixel's mean (vdb_render's report)."""
     res = res or [int(v) for v in args.res.split("x")]
     seconds, results = None, {}
     for model, field in fields.items():
@@ -590,7 +590,7 @@ def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
         stats = json.loads((out / f"{name}.render.json").read_text())
         c = compare(args.build, reference, out / f"{name}.exr", out / f"{name}_error.png")
         results[model] = {"rmse": c["rmse"], "mean": c["mean_relative_error"], "spp": stats.get("spp"),
-                          "peak_mb": peak_memory_mb(out, name)}
+                          "peak_mb": peak_memory_mb(out, name), "noise": math.sqrt(stats["mean_pixel_variance"])}
         if seconds is None:
             seconds = stats["seconds"]
     return seconds, results
@@ -806,14 +806,17 @@ def report_level_of_detail(args, lod_rows):
              f"{20 * args.cells / 1024:.0f} across the view); RMSE and mean relative error "
              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
-             f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Peak memory of vdb_render "
-             "(/usr/bin/time -v).", "",
+             f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Noise: the standard error of a pixel's "
+             "mean, from each render's own samples (bias aside: the chapter's Fig. 4.12 compares noise). Peak "
+             "memory of vdb_render (/usr/bin/time -v).", "",
              "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
-             " mipmap, models | peak MB: original, mipmap, models |", "|---|---|---|---|---|---|---|"]
+             " mipmap, models | noise: original, mipmap, models | peak MB: original, mipmap, models |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in lod_rows:
         o, m, n = r["original"], r["mipmap"], r["models"]
         lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
                      f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
+                     " " + ", ".join(f"{v.get('noise', math.nan):.4f}" for v in (o, m, n)) + " |"
                      f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
     banded = [r for r in lod_rows if "bands" in r]
     if not banded:

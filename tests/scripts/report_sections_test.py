@@ -27,7 +27,7 @@ TIMING = [{"surface": "noise", "factor": 32, "scaling": "interreflection",
            "bytes": {"original_height": 4202500, "height": 4356, "svndf": 122880, "T": 192, "S": 607500},
            "ranges": {"S": {"min": 0.2, "max": 3.0, "relative_standard_error": {"median": 0.02, "p90": 0.05,
                                                                                  "p99": 0.1}}}}]
-FIGURES = {"rmse": 0.08, "mean": -0.015, "spp": 11, "peak_mb": 560}
+FIGURES = {"rmse": 0.08, "mean": -0.015, "spp": 11, "peak_mb": 560, "noise": 0.0123}
 LOD = [{"surface": "noise", "spp": 16, "seconds": 0.25, "original": FIGURES, "mipmap": FIGURES, "models": FIGURES,
         "bands": [{"band": "near (theta_o < 70)", "pixels": 100, "share": 0.35, "original": 0.0, "mipmap": 0.01,
                    "models": 0.02}]}]
@@ -87,6 +87,7 @@ class ReportSections(unittest.TestCase):
     def test_level_of_detail_names_its_footprint_width(self):
         narrow = self.report(arguments(), STUDY_ROWS, LOD)
         self.assertIn("footprint picks, by its width across the view.", narrow)
+        self.assertIn("| 0.0123, 0.0123, 0.0123 |", narrow)  # each field's noise
         self.assertNotIn("--lod-footprint", narrow)
         area = self.report(arguments(lod_footprint="area"), STUDY_ROWS, LOD)
         self.assertIn("footprint picks, by the square root of its area.", area)
