@@ -580,7 +580,8 @@ def lod_bands(args, out, tag, fields, spp, reference, masks):
 def equal_time(args, out, tag, fields, reference, spp, camera, res=None):
     """The first field ("original") at spp samples per pixel, every other for the time it took, under
     global illumination: the seconds, and per field its RMSE, mean error, spp and peak memory against
-    the reference, and its noise: the standard error of a pixel's mean (vdb_render's report)."""
+    the reference, and its noise: the RMS over pixels of the standard error of a pixel's mean (from
+    vdb_render's report, the mean over pixels and channels of that variance)."""
     res = res or [int(v) for v in args.res.split("x")]
     seconds, results = None, {}
     for model, field in fields.items():
@@ -806,9 +807,9 @@ def report_level_of_detail(args, lod_rows):
              f"{20 * args.cells / 1024:.0f} across the view); RMSE and mean relative error "
              f"against the original at {args.lod_spp_ref} spp (another seed). `mipmap`: the original and the R_ir "
              f"models at {args.factors}x as levels; `models`: those models alone; each path on the level its pixel's "
-             f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Noise: the standard error of a pixel's "
-             "mean, from each render's own samples (bias aside: the chapter's Fig. 4.12 compares noise). Peak "
-             "memory of vdb_render (/usr/bin/time -v).", "",
+             f"footprint picks, by {LOD_FOOTPRINT[args.lod_footprint]}. Noise: the RMS over pixels of the standard "
+             "error of a pixel's mean, from each render's own samples, which leaves the models' bias out (the "
+             "chapter's Fig. 4.12 compares noise). Peak memory of vdb_render (/usr/bin/time -v).", "",
              "| surface | seconds | original RMSE (spp) | mipmap RMSE (spp) | models RMSE (spp) | mean error: original,"
              " mipmap, models | noise: original, mipmap, models | peak MB: original, mipmap, models |",
              "|---|---|---|---|---|---|---|---|"]

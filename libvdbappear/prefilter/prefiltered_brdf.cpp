@@ -106,11 +106,13 @@ Rgb PrefilteredBrdf::eval(const Point2& x, const Vec3& wi, const Vec3& wo, const
   return f_low;
 }
 
-// Above the horizon the lobes' own draws; below it, with probability kBelowHorizonShare, those
-// draws mirrored in the base plane. f'_low's lobes reach below the horizon only as far as their
-// facets tilt (a height field's micro-normals, so every mu_k, face up), and wherever a lobe's
-// <mu_k, wi> > 0 below the horizon it is also > 0 at wi's mirror image, which the mirrored draws
-// cover. Draws of a lobe that land below the horizon are not kept: pdf() leaves them out.
+// On a plane, the lobes' draws folded above the horizon (foldedPdf): Eq. (4.5) is zero below it.
+// On a curved base, above the horizon the lobes' own draws; below it, with probability
+// kBelowHorizonShare, those draws mirrored in the base plane. f'_low's lobes reach below the horizon
+// only as far as their facets tilt (a height field's micro-normals, so every mu_k, face up), and
+// wherever a lobe's <mu_k, wi> > 0 below the horizon it is also > 0 at wi's mirror image, which the
+// mirrored draws cover. There, draws of a lobe that land below the horizon are not kept: pdf()
+// leaves them out.
 BrdfSample PrefilteredBrdf::sample(const Point2& x, const Vec3& wo, double u_lobe, const Point2& u,
                                     const TileStretch& stretch, const Vec3& coarse_normal) const {
   if (shape_ == Base::kPlane) {

@@ -175,10 +175,9 @@ test::Chi2Options samplingOptions(std::uint64_t seed, int test_count) {
 // weight is eval |cos theta_i| / pdf; eval is continuous across the horizon and lights facets
 // below it (a plane's map would shadow them; beyond a sphere's terminator they are lit).
 TEST(PrefilteredBrdf, SamplingFollowsItsPdfAboveAndBelowTheHorizon) {
-  const HeightField bumpy = test::sinusoidHeightField(32, 0.01, {17.0, 9.0, 5.0}, 0.002, 3);
-  const MicrofacetBrdf base(MicrofacetDistribution(MicrofacetKind::GGX, 0.3), Rgb(0.5, 0.4, 0.3), Rgb(0.3, 0.2, 0.1));
-  const PrefilteredBrdf f(prefilterDisplacement(bumpy, base, test::smallPrefilterSettings()), base, PrefilteredBrdf::Base::kCurved);
-  const Point2 x(0.3, 0.6);
+  const BumpyModel m;
+  const PrefilteredBrdf f(m.surface, m.base, PrefilteredBrdf::Base::kCurved);
+  const Point2& x = m.x;
   test::TestRandom random(5);
   std::uint64_t seed = 40;
   for (const Vec3& wo : {Vec3(0.3, 0.1, 1).normalized(), Vec3(0.95, 0.2, -0.04).normalized()}) {
@@ -259,6 +258,19 @@ TEST(PrefilteredBrdf, SamplingOnAPlaneFoldsDrawsBelowTheHorizonAbove) {
   EXPECT_NEAR(unfolded / n, cosine / n, 4 * std::sqrt((variance(unfolded, unfolded2) + variance(cosine, cosine2)) / n));
   EXPECT_GT(absorbed_before, n / 20);  // the control loses draws below the horizon
   EXPECT_LT(variance(folded, folded2), 0.8 * variance(unfolded, unfolded2));
+
+  // Over a squeezed tile the weight is eval cos theta_i / pdf too.
+  const TileStretch squeezed = TileStretch::diagonal(0.6, 1);
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const BrdfSample s = f.sample(x, wo, random.uniform(), random.point2(), squeezed);
+    if (!(s.pdf > 0)) continue;
+    ++checked;
+    ASSERT_GT(s.wi.z(), 0);
+    const Rgb expected = f.eval(x, s.wi, wo, squeezed) * s.wi.z() / f.pdf(x, wo, s.wi);
+    EXPECT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.maxCoeff()));
+  }
+  EXPECT_GT(checked, 300);
 }
 
 // A view below a curved base's horizon (prefilter/prefiltered_brdf.h): f_low is continuous across
