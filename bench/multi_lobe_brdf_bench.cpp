@@ -1,5 +1,5 @@
 // Google Benchmark of a prefiltered model's shading on the square tile (docs/displacement.md §8):
-// MultiLobeBrdf::eval and ::sample, Eq. (4.5)'s sum over six lobes of the base BRDF as a coarse cell of
+// MultiLobeBrdf::eval, ::sample and ::lobePdf, Eq. (4.5)'s sum over six lobes of the base BRDF as a coarse cell of
 // vdb_displacement_prefilter holds them, against the base BRDF's own eval (one GGX lobe), the
 // baseline measured in the same run; and PinholeCamera::ray, which every path starts with. Random
 // directions over the upper hemisphere, lobes tilted up to 40 degrees. One thread.
@@ -76,6 +76,14 @@ void BM_MultiLobeSample(benchmark::State& state) {
   state.counters["samples_per_s"] = benchmark::Counter(double(pairs.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// MultiLobeBrdf::lobePdf: the mixture's density at a direction, what the prefiltered SVBRDF's
+// sampling on a plane adds once per draw to fold a draw below the horizon above it
+// (prefilter/prefiltered_brdf.cpp, foldedPdf).
+void BM_MultiLobePdf(benchmark::State& state) {
+  const MultiLobeBrdf f(sixTiltedLobes(), kGlossyBase);
+  evalOverPairs(state, [&f](const Vec3& wi, const Vec3& wo) { return Rgb::Constant(f.lobePdf(wo, wi)); });
+}
+
 void BM_CameraRay(benchmark::State& state) {
   const PinholeCamera camera({Vec3(-8.8, -20, 16.8), Vec3(8, 8, 0), Vec3(0, 0, 1), 34}, 192, 144);
   double footprint = 0;
@@ -91,6 +99,7 @@ void BM_CameraRay(benchmark::State& state) {
 BENCHMARK(BM_BaseBrdfEval)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MultiLobeEval)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MultiLobeSample)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MultiLobePdf)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CameraRay)->Unit(benchmark::kMicrosecond);
 
 }  // namespace vdbappear
