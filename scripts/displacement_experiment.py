@@ -817,7 +817,7 @@ def report_level_of_detail(args, lod_rows):
         o, m, n = r["original"], r["mipmap"], r["models"]
         lines.append(f"| {r['surface']} | {r['seconds']:.2f} | {o['rmse']:.4f} ({o['spp']}) | {m['rmse']:.4f} ({m['spp']}) |"
                      f" {n['rmse']:.4f} ({n['spp']}) | {o['mean']:+.2%}, {m['mean']:+.2%}, {n['mean']:+.2%} |"
-                     " " + ", ".join(f"{v.get('noise', math.nan):.4f}" for v in (o, m, n)) + " |"
+                     " " + ", ".join(f"{v['noise']:.4f}" for v in (o, m, n)) + " |"
                      f" {o['peak_mb']:.0f}, {m['peak_mb']:.0f}, {n['peak_mb']:.0f} |")
     banded = [r for r in lod_rows if "bands" in r]
     if not banded:
