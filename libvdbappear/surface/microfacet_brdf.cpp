@@ -25,9 +25,13 @@ MicrofacetBrdf::MicrofacetBrdf(const MicrofacetDistribution& distribution, const
     : distribution_(distribution), specular_(specular), diffuse_(diffuse) {
   if (!isReflectance(specular) || !isReflectance(diffuse))
     throw std::invalid_argument("BRDF reflectances must lie in [0, 1]");
-  // The lobes are drawn in proportion to their mean reflectance at normal incidence.
-  const double s = average(specular), d = average(diffuse);
-  specular_probability_ = s + d > 0 ? s / (s + d) : 1;
+}
+
+double MicrofacetBrdf::specularProbability(double cos_theta_o) const {
+  const double cos_o = std::clamp(cos_theta_o, 0.0, 1.0);
+  const double s = average(schlickFresnel(specular_, cos_o)) * distribution_.G1(Vec3(std::sqrt(1 - cos_o * cos_o), 0, cos_o)),
+               d = average(diffuse_);
+  return s + d > 0 ? s / (s + d) : 1;
 }
 
 Rgb MicrofacetBrdf::eval(const Vec3& wo, const Vec3& wi) const {
@@ -44,11 +48,12 @@ double MicrofacetBrdf::pdf(const Vec3& wo, const Vec3& wi) const {
   const Vec3 h = (wo + wi).normalized();
   // The reflection Jacobian |d wi / d h| = 4 <wo, h> (Walter et al. 2007, Eq. 14).
   const double specular = distribution_.normalPdf(wo, h) / (4 * wo.dot(h));
-  return specular_probability_ * specular + (1 - specular_probability_) * cosineHemispherePdf(wi.z());
+  const double p_specular = specularProbability(wo.z());
+  return p_specular * specular + (1 - p_specular) * cosineHemispherePdf(wi.z());
 }
 
 Vec3 MicrofacetBrdf::sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const {
-  return u_lobe < specular_probability_ ? reflect(wo, distribution_.sampleNormal(wo, u)) : sampleCosineHemisphere(u);
+  return u_lobe < specularProbability(wo.z()) ? reflect(wo, distribution_.sampleNormal(wo, u)) : sampleCosineHemisphere(u);
 }
 
 BrdfSample MicrofacetBrdf::sample(const Vec3& wo, double u_lobe, const Point2& u) const {

@@ -25,19 +25,23 @@ class MicrofacetBrdf {
   const Rgb& diffuse() const { return diffuse_; }
 
   Rgb eval(const Vec3& wo, const Vec3& wi) const;
-  // One lobe is chosen with the probability specularProbability(), then wi from it: the specular
+  // One lobe is chosen with the probability specularProbability(wo.z), then wi from it: the specular
   // lobe reflects wo about distribution().sampleNormal(wo), the diffuse lobe is cosine-weighted.
   BrdfSample sample(const Vec3& wo, double u_lobe, const Point2& u) const;
   // sample()'s direction alone (wo.z > 0), without its pdf and weight: for a mixture of lobes
   // (surface/multi_lobe_brdf.h), whose pdf and weight are the mixture's.
   Vec3 sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // the mixture's solid-angle density of wi
-  double specularProbability() const { return specular_probability_; }
+  // The specular lobe's share of the draws for a view cos theta_o from the normal: its Fresnel
+  // reflectance there (Schlick's, the mean over the channels) against the diffuse albedo,
+  //   F(cos theta_o) / (F(cos theta_o) + diffuse),
+  // so that a grazing view, which Fresnel makes mostly specular, draws mostly the specular lobe
+  // (F0 / (F0 + diffuse) at normal incidence).
+  double specularProbability(double cos_theta_o) const;
 
  private:
   MicrofacetDistribution distribution_;
   Rgb specular_, diffuse_;
-  double specular_probability_ = 1;
 };
 
 // Schlick's approximation, F0 + (1 - F0)(1 - cos)^5.

@@ -1,9 +1,11 @@
 // The base micro-BRDFs of the displacement chapter (libvdbappear/surface/microfacet_*.h): the
 // normalisation of D (Eq. 4.3), Smith's projected-area identity (the single-direction form of
-// Eq. 4.8, which is also the weak white furnace), reciprocity, energy lost only to shadowing, and
+// Eq. 4.8, which is also the weak white furnace), reciprocity, energy lost only to shadowing,
 // chi-square tests of every sampler against its pdf, with the negative control that a slightly
-// wrong roughness is rejected.
+// wrong roughness is rejected, and the lobe choice that lowers the weights' variance at grazing
+// views.
 #include "libvdbappear/math/constants.h"
+#include "libvdbappear/math/sampling.h"
 #include "libvdbappear/surface/microfacet_brdf.h"
 
 #include "support/brdf_chi2.h"
@@ -143,17 +145,68 @@ TEST(Microfacet, BrdfSamplingFollowsItsPdfAndWeightsAreEvalOverPdf) {
   test::TestRandom random(9);
   for (const Case& c : kCases) {
     const MicrofacetBrdf brdf(MicrofacetDistribution(c.kind, c.alpha), Rgb(0.9, 0.6, 0.3), Rgb(0.2, 0.3, 0.1));
-    const Vec3 wo = Vec3(0.6, 0.2, 0.5).normalized();
-    const test::Chi2Result r = test::chi2TestBrdfSampling(
-        [&](double u_lobe, const Point2& u) { return brdf.sample(wo, u_lobe, u); },
-        [&](const Vec3& wi) { return brdf.pdf(wo, wi); }, absorbing(hemisphereOptions(reflect(wo, Vec3(0, 0, 1)), ++seed)));
-    EXPECT_TRUE(r.passed) << name(c) << ": " << r.summary;
-    for (int trial = 0; trial < 100; ++trial) {
-      const BrdfSample s = brdf.sample(wo, random.uniform(), random.point2());
-      if (s.pdf == 0) continue;
-      const Rgb expected = brdf.eval(wo, s.wi) * s.wi.z() / brdf.pdf(wo, s.wi);
-      EXPECT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.maxCoeff()));
+    // A view where the lobes are drawn about as at normal incidence, and a grazing one, where
+    // Fresnel and masking move the choice (specularProbability).
+    for (const Vec3& wo : {Vec3(0.6, 0.2, 0.5).normalized(), Vec3(0.95, 0.1, 0.12).normalized()}) {
+      const test::Chi2Result r = test::chi2TestBrdfSampling(
+          [&](double u_lobe, const Point2& u) { return brdf.sample(wo, u_lobe, u); },
+          [&](const Vec3& wi) { return brdf.pdf(wo, wi); }, absorbing(hemisphereOptions(reflect(wo, Vec3(0, 0, 1)), ++seed)));
+      EXPECT_TRUE(r.passed) << name(c) << ", cos theta_o " << wo.z() << ": " << r.summary;
+      for (int trial = 0; trial < 100; ++trial) {
+        const BrdfSample s = brdf.sample(wo, random.uniform(), random.point2());
+        if (s.pdf == 0) continue;
+        const Rgb expected = brdf.eval(wo, s.wi) * s.wi.z() / brdf.pdf(wo, s.wi);
+        EXPECT_LT((s.weight - expected).abs().maxCoeff(), 1e-9 * (1 + expected.maxCoeff()));
+      }
     }
+  }
+}
+
+// The relative variance of a sampler's weights (their mean over the channels) for wo: the noise per
+// path under a uniform sky, which such a surface's BRDF draws alone carry.
+double weightRelativeVariance(const Vec3& wo, const std::function<BrdfSample(double, const Point2&)>& sample) {
+  test::TestRandom random(31);
+  double sum = 0, sum2 = 0;
+  const int n = 200'000;
+  for (int i = 0; i < n; ++i) {
+    const double w = sample(random.uniform(), random.point2()).weight.mean();
+    sum += w;
+    sum2 += w * w;
+  }
+  const double mean = sum / n;
+  return (sum2 / n - mean * mean) / (mean * mean);
+}
+
+// The lobe choice: F0 / (F0 + diffuse) at normal incidence, and toward a grazing view as Schlick's
+// Fresnel times G1 there, several times higher, which lowers the weights' variance. Negative control: the
+// choice fixed at its normal-incidence value (the rule before 2026-12-03), by the same draws.
+TEST(Microfacet, LobeChoiceFollowsFresnelAndMaskingAtTheView) {
+  const MicrofacetDistribution ggx(MicrofacetKind::GGX, 0.3);
+  const Rgb f0(0.04, 0.04, 0.04), diffuse(0.7, 0.55, 0.4);
+  const MicrofacetBrdf brdf(ggx, f0, diffuse);
+  const double at_normal = 0.04 / (0.04 + average(diffuse));
+  EXPECT_NEAR(brdf.specularProbability(1), at_normal, 1e-12);
+  for (double cos_o : {0.8, 0.5, 0.3, 0.15, 0.08}) {
+    const double p = brdf.specularProbability(cos_o);
+    const double s = average(schlickFresnel(f0, cos_o)) * ggx.G1(fromCosTheta(cos_o));
+    EXPECT_NEAR(p, s / (s + average(diffuse)), 1e-12) << "cos theta_o " << cos_o;
+    if (cos_o <= 0.3) EXPECT_GT(p, 2 * at_normal) << "cos theta_o " << cos_o;
+  }
+  EXPECT_EQ(MicrofacetBrdf(ggx, Rgb::Zero(), Rgb::Zero()).specularProbability(0.5), 1);  // no diffuse lobe
+
+  const MicrofacetBrdf specular_alone(ggx, f0, Rgb::Zero());
+  const auto fixed_choice = [&](const Vec3& wo, double u_lobe, const Point2& u) {
+    const Vec3 wi = u_lobe < at_normal ? specular_alone.sampleDirection(wo, 0, u) : sampleCosineHemisphere(u);
+    const double pdf = at_normal * specular_alone.pdf(wo, wi) + (1 - at_normal) * cosineHemispherePdf(wi.z());
+    BrdfSample s;
+    if (wi.z() > 0 && pdf > 0) s = {wi, brdf.eval(wo, wi) * (wi.z() / pdf), pdf};
+    return s;
+  };
+  for (double cos_o : {0.2, 0.1}) {
+    const Vec3 wo = fromCosTheta(cos_o);
+    const double now = weightRelativeVariance(wo, [&](double ul, const Point2& u) { return brdf.sample(wo, ul, u); });
+    const double fixed = weightRelativeVariance(wo, [&](double ul, const Point2& u) { return fixed_choice(wo, ul, u); });
+    EXPECT_LT(now, 0.7 * fixed) << "cos theta_o " << cos_o << ": " << now << " against " << fixed;
   }
 }
 
