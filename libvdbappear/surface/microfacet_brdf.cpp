@@ -29,8 +29,8 @@ MicrofacetBrdf::MicrofacetBrdf(const MicrofacetDistribution& distribution, const
 
 double MicrofacetBrdf::specularProbability(double cos_theta_o) const {
   const double cos_o = std::clamp(cos_theta_o, 0.0, 1.0);
-  const double s = average(schlickFresnel(specular_, cos_o)) * distribution_.G1(Vec3(std::sqrt(1 - cos_o * cos_o), 0, cos_o)),
-               d = average(diffuse_);
+  const Vec3 wo(std::sqrt(1 - cos_o * cos_o), 0, cos_o);  // G1 is isotropic
+  const double s = average(schlickFresnel(specular_, cos_o)) * distribution_.G1(wo), d = average(diffuse_);
   return s + d > 0 ? s / (s + d) : 1;
 }
 

@@ -32,11 +32,12 @@ class MicrofacetBrdf {
   // (surface/multi_lobe_brdf.h), whose pdf and weight are the mixture's.
   Vec3 sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // the mixture's solid-angle density of wi
-  // The specular lobe's share of the draws for a view cos theta_o from the normal: its Fresnel
-  // reflectance there (Schlick's, the mean over the channels) against the diffuse albedo,
-  //   F(cos theta_o) / (F(cos theta_o) + diffuse),
-  // so that a grazing view, which Fresnel makes mostly specular, draws mostly the specular lobe
-  // (F0 / (F0 + diffuse) at normal incidence).
+  // The specular lobe's share of the draws for a view cos theta_o from the normal: about its albedo
+  // there, Schlick's Fresnel (the mean over the channels) times G1 (its draws reflect wo about
+  // visible normals, near the mirror direction), against the diffuse albedo,
+  //   s / (s + diffuse),  s = F(cos theta_o) G1(wo),
+  // so that a grazing view, which Fresnel makes mostly specular, draws the specular lobe more
+  // (F0 / (F0 + diffuse) at normal incidence; docs/displacement.md §3).
   double specularProbability(double cos_theta_o) const;
 
  private:
