@@ -33,8 +33,8 @@ class MicrofacetBrdf {
   Vec3 sampleDirection(const Vec3& wo, double u_lobe, const Point2& u) const;
   double pdf(const Vec3& wo, const Vec3& wi) const;  // the mixture's solid-angle density of wi
   // The specular lobe's share of the draws for a view cos theta_o from the normal: about its albedo
-  // there, Schlick's Fresnel (the mean over the channels) times G1 (its draws reflect wo about
-  // visible normals, near the mirror direction), against the diffuse albedo,
+  // there, Schlick's Fresnel (the mean over the channels) times G1 (its draws reflect wo near the
+  // mirror direction), against the diffuse albedo,
   //   s / (s + diffuse),  s = F(cos theta_o) G1(wo),
   // so that a grazing view, which Fresnel makes mostly specular, draws the specular lobe more
   // (F0 / (F0 + diffuse) at normal incidence; docs/displacement.md §3).

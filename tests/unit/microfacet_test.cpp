@@ -177,9 +177,9 @@ double weightRelativeVariance(const Vec3& wo, const std::function<BrdfSample(dou
   return (sum2 / n - mean * mean) / (mean * mean);
 }
 
-// The lobe choice: F0 / (F0 + diffuse) at normal incidence, and toward a grazing view as Schlick's
-// Fresnel times G1 there, several times higher, which lowers the weights' variance. Negative control: the
-// choice fixed at its normal-incidence value (the rule before 2026-12-03), by the same draws.
+// The lobe choice: F0 / (F0 + diffuse) at normal incidence, and toward a grazing view Schlick's
+// Fresnel times G1 there, several times higher, which lowers the weights' variance. Negative
+// control: the former fixed choice, at its normal-incidence value, by the same draws.
 TEST(Microfacet, LobeChoiceFollowsFresnelAndMaskingAtTheView) {
   const MicrofacetDistribution ggx(MicrofacetKind::GGX, 0.3);
   const Rgb f0(0.04, 0.04, 0.04), diffuse(0.7, 0.55, 0.4);
@@ -192,12 +192,17 @@ TEST(Microfacet, LobeChoiceFollowsFresnelAndMaskingAtTheView) {
     EXPECT_NEAR(p, s / (s + average(diffuse)), 1e-12) << "cos theta_o " << cos_o;
     if (cos_o <= 0.3) EXPECT_GT(p, 2 * at_normal) << "cos theta_o " << cos_o;
   }
+  EXPECT_EQ(brdf.specularProbability(0), 0);  // G1 is 0 on the horizon
   EXPECT_EQ(MicrofacetBrdf(ggx, Rgb::Zero(), Rgb::Zero()).specularProbability(0.5), 1);  // no diffuse lobe
+  EXPECT_EQ(MicrofacetBrdf(ggx, Rgb::Zero(), Rgb::Zero()).specularProbability(1), 1);    // no lobe at all
 
-  const MicrofacetBrdf specular_alone(ggx, f0, Rgb::Zero());
+  // The specular lobe's visible normals reflected, density normalPdf / (4 <wo, h>) (Walter et al.
+  // 2007, Eq. 14), or the cosine-weighted diffuse lobe.
   const auto fixed_choice = [&](const Vec3& wo, double u_lobe, const Point2& u) {
-    const Vec3 wi = u_lobe < at_normal ? specular_alone.sampleDirection(wo, 0, u) : sampleCosineHemisphere(u);
-    const double pdf = at_normal * specular_alone.pdf(wo, wi) + (1 - at_normal) * cosineHemispherePdf(wi.z());
+    const Vec3 wi = u_lobe < at_normal ? reflect(wo, ggx.sampleNormal(wo, u)) : sampleCosineHemisphere(u);
+    const Vec3 h = (wo + wi).normalized();
+    const double specular_pdf = ggx.normalPdf(wo, h) / (4 * wo.dot(h));
+    const double pdf = at_normal * specular_pdf + (1 - at_normal) * cosineHemispherePdf(wi.z());
     BrdfSample s;
     if (wi.z() > 0 && pdf > 0) s = {wi, brdf.eval(wo, wi) * (wi.z() / pdf), pdf};
     return s;
